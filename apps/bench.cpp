@@ -1,0 +1,194 @@
+#include "apps/bench.h"
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+
+#include "apps/scene_source.h"
+#include "engine/camera.h"
+#include "engine/gbuffer.h"
+#include "engine/lights.h"
+#include "engine/rng.h"
+#include "engine/surface.h"
+#include "engine/tiles.h"
+#include "engine/tracer.h"
+
+namespace candela {
+
+void add_bench_options(CLI::App& app, BenchOptions& o) {
+  app.add_option("--scenes", o.scenes, "Scenes to measure (default: builtin:cornell builtin:manylights builtin:city "
+                                       "and StainedGlassLamp from ../shared/scenes when present)");
+  app.add_option("--width", o.width, "Image width of the ray batches")->check(CLI::Range(16, 16384))->capture_default_str();
+  app.add_option("--height", o.height, "Image height of the ray batches")->check(CLI::Range(16, 16384))->capture_default_str();
+  app.add_option("--threads", o.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024))->capture_default_str();
+  app.add_option("--min-time", o.min_time, "Minimum seconds per benchmark repetition")->check(CLI::Range(0.01, 600.0))->capture_default_str();
+  app.add_option("--repetitions", o.repetitions, "Repetitions; the summary quotes medians")->check(CLI::Range(1, 100))->capture_default_str();
+  app.add_option("--filter", o.filter, "Regular expression selecting benchmarks by name")->capture_default_str();
+}
+
+namespace {
+
+// A loaded scene with its tracer, lights, camera and the primary hits used as shadow-ray origins.
+struct BenchScene {
+  Scene scene;
+  std::unique_ptr<Tracer> tracer;
+  std::unique_ptr<LightList> lights;
+  Camera camera;
+  GBuffer gbuffer;
+};
+
+std::vector<std::string> default_scenes() {
+  std::vector<std::string> s = {"builtin:cornell", "builtin:manylights", "builtin:city"};
+  std::string lamp = std::string(CANDELA_SHARED_SCENES) + "/StainedGlassLamp/glTF-JPG-PNG/StainedGlassLamp.gltf";
+  if (std::filesystem::exists(lamp)) s.push_back(lamp);
+  return s;
+}
+
+std::string short_name(const std::string& source) {
+  if (source.rfind("builtin:", 0) == 0) return source.substr(8);
+  return std::filesystem::path(source).stem().string();
+}
+
+// Primary rays of the whole image in 4x4 packets through rtcIntersect16 only: the raw Embree ceiling.
+uint64_t raw_primary_packets(const BenchScene& s) {
+  RayCounter rays;
+  const Camera& cam = s.camera;
+  for_each_tile(cam.width(), cam.height(), [&](const Tile& tile) {
+    RayPacket16 packet;
+    uint64_t n = 0;
+    for (int by = tile.y0; by < tile.y1; by += 4)
+      for (int bx = tile.x0; bx < tile.x1; bx += 4) {
+        for (int lane = 0; lane < 16; ++lane) {
+          int x = bx + (lane & 3), y = by + (lane >> 2);
+          if (x >= tile.x1 || y >= tile.y1) { packet.set_inactive(lane); continue; }
+          packet.set(lane, Ray{cam.position(), cam.direction(x + 0.5f, y + 0.5f), 0.0f, kInfinity});
+          ++n;
+        }
+        s.tracer->intersect16(packet, true);
+        benchmark::DoNotOptimize(packet.rayhit.hit.primID[0]);
+      }
+    rays.add(n);
+  });
+  return rays.count.load();
+}
+
+// One shadow ray per G-buffer hit towards a point on a light chosen by pixel hash (uniformly);
+// packets of 16 (rtcOccluded16) or single rays (rtcOccluded1).
+uint64_t shadow_rays(const BenchScene& s, bool packets) {
+  RayCounter rays;
+  const GBuffer& g = s.gbuffer;
+  size_t light_count = s.lights->size();
+  if (light_count == 0) return 0;
+  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+    RayPacket16 packet;
+    int lane = 0;
+    uint64_t n = 0;
+    auto flush = [&] {
+      for (int k = lane; k < 16; ++k) packet.set_inactive(k);
+      s.tracer->occluded16(packet);
+      benchmark::DoNotOptimize(packet.rayhit.ray.tfar[0]);
+      lane = 0;
+    };
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        size_t i = size_t(y) * g.width + x;
+        if (!g.hit(i)) continue;
+        Rng rng = Rng::for_key(3, i, 0, 0x5d);
+        size_t light = std::min(size_t(rng.next_float() * light_count), light_count - 1);
+        LightSample ls = s.lights->sample(s.scene, light, g.position[i], vec2(rng.next_float(), rng.next_float()));
+        if (ls.distance <= 0.0f) continue;
+        Ray ray = ls.distance >= kInfinity ? s.tracer->spawn_ray(g.position[i], g.geometric_normal[i], ls.wi)
+                                           : s.tracer->spawn_ray_to(g.position[i], g.geometric_normal[i], ls.position,
+                                                                    ls.is_delta ? -ls.wi : ls.normal);
+        ++n;
+        if (!packets) {
+          benchmark::DoNotOptimize(s.tracer->occluded(ray));
+          continue;
+        }
+        packet.set(lane++, ray);
+        if (lane == 16) flush();
+      }
+    if (packets && lane > 0) flush();
+    rays.add(n);
+  });
+  return rays.count.load();
+}
+
+// Remembers every run so the summary can quote medians and ratios from this one process.
+class CollectingReporter : public benchmark::ConsoleReporter {
+ public:
+  std::map<std::string, double> median_rate;  // "kind/scene" -> rays per second (median aggregate)
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& run : runs) {
+      if (run.run_type != Run::RT_Aggregate || run.aggregate_name != "median") continue;
+      auto it = run.counters.find("rays/s");
+      if (it != run.counters.end()) median_rate[run.run_name.function_name] = it->second.value;
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+};
+
+}  // namespace
+
+int run_bench(const BenchOptions& o) {
+  std::vector<std::string> sources = o.scenes.empty() ? default_scenes() : o.scenes;
+  std::vector<std::unique_ptr<BenchScene>> scenes;
+  for (const std::string& source : sources) {
+    auto s = std::make_unique<BenchScene>();
+    s->scene = load_scene(source);
+    s->tracer = std::make_unique<Tracer>(s->scene);
+    s->lights = std::make_unique<LightList>(s->scene);
+    s->camera = Camera(s->scene.default_camera(), o.width, o.height);
+    RayCounter unused;
+    trace_gbuffer(s->scene, *s->tracer, s->camera, s->camera, GBufferParams{1, 0, false}, s->gbuffer, unused);
+    std::fprintf(stderr, "%s: %zu triangles, %zu lights\n", source.c_str(), s->scene.triangle_count(), s->lights->size());
+    scenes.push_back(std::move(s));
+  }
+  std::vector<std::string> names;
+  for (size_t k = 0; k < scenes.size(); ++k) {
+    BenchScene* s = scenes[k].get();
+    std::string name = short_name(sources[k]);
+    names.push_back(name);
+    auto add = [&](const std::string& kind, std::function<uint64_t()> body) {
+      benchmark::RegisterBenchmark((kind + "/" + name).c_str(), [body](benchmark::State& state) {
+        uint64_t rays = 0;
+        for (auto _ : state) rays += body();
+        state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+      })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions)
+        ->ReportAggregatesOnly(true);
+    };
+    add("raw_intersect16", [s] { return raw_primary_packets(*s); });
+    add("gbuffer", [s] {
+      RayCounter rays;
+      trace_gbuffer(s->scene, *s->tracer, s->camera, s->camera, GBufferParams{1, 0, true}, s->gbuffer, rays);
+      return rays.count.load();
+    });
+    add("shadow_occluded16", [s] { return shadow_rays(*s, true); });
+    add("shadow_occluded1", [s] { return shadow_rays(*s, false); });
+  }
+  std::string filter_flag = "--benchmark_filter=" + o.filter;
+  int argc = 2;
+  char arg0[] = "candela";
+  char* argv[] = {arg0, filter_flag.data(), nullptr};
+  benchmark::Initialize(&argc, argv);
+  CollectingReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  benchmark::Shutdown();
+
+  std::printf("\nSummary at %dx%d (medians of %d repetitions, Mrays/s):\n", o.width, o.height, o.repetitions);
+  std::printf("%-20s %12s %10s %12s %12s %12s\n", "scene", "raw_isect16", "gbuffer", "raw/gbuffer", "occluded16", "occluded1");
+  for (const std::string& name : names) {
+    auto rate = [&](const std::string& kind) {
+      auto it = reporter.median_rate.find(kind + "/" + name);
+      return it == reporter.median_rate.end() ? 0.0 : it->second * 1e-6;
+    };
+    double raw = rate("raw_intersect16"), gb = rate("gbuffer");
+    std::printf("%-20s %12.2f %10.2f %12.2f %12.2f %12.2f\n", name.c_str(), raw, gb, gb > 0 ? raw / gb : 0.0,
+                rate("shadow_occluded16"), rate("shadow_occluded1"));
+  }
+  return 0;
+}
+
+}  // namespace candela

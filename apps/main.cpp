@@ -1,0 +1,137 @@
+// `candela`: one binary, subcommands `render` and `bench`. Bad command lines and bad input files print a
+// message naming the option or file and exit non-zero.
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "apps/bench.h"
+#include "apps/renderer.h"
+#include "apps/scene_source.h"
+#include "apps/stats_json.h"
+#include "engine/check.h"
+
+using namespace candela;
+
+namespace {
+
+struct RenderOptions {
+  std::string scene;
+  std::string out;
+  std::string stats;
+  int frames = 1;
+  float fps = 30.0f;
+  float exposure = 1.0f;
+  int threads = 0;
+  int lights = 1024;
+  bool quiet = false;
+  std::string method = "pt";
+  std::string light_sampler = "power";
+  RenderSettings settings;
+};
+
+void check_output_path(const std::string& path, const std::vector<std::string>& extensions, const char* option) {
+  std::filesystem::path p(path);
+  std::string ext = p.extension().string();
+  for (char& c : ext) c = char(std::tolower(c));
+  if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end()) {
+    std::string list;
+    for (const std::string& e : extensions) list += (list.empty() ? "" : " or ") + e;
+    throw InputError(std::string(option) + " " + path + ": must end in " + list);
+  }
+  std::filesystem::path dir = p.parent_path();
+  if (!dir.empty() && !std::filesystem::is_directory(dir))
+    throw InputError(std::string(option) + " " + path + ": directory " + dir.string() + " does not exist");
+}
+
+// Renders `frames` frames (scene time advances by 1/fps per frame), prints progress and per-frame
+// timings, writes the last frame's image and optionally the stats of every frame.
+int run_render(RenderOptions& o) {
+  check_output_path(o.out, {".exr", ".png"}, "--out");
+  if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
+  o.settings.light_sampler = o.light_sampler == "uniform" ? LightSamplerKind::Uniform : LightSamplerKind::Power;
+  BuiltinOptions builtin;
+  builtin.light_count = o.lights;
+  auto t0 = std::chrono::steady_clock::now();
+  Scene scene = load_scene(o.scene, builtin);
+  size_t triangles = scene.triangle_count();
+  Renderer renderer(std::move(scene), o.settings);
+  double setup_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (!o.quiet)
+    std::fprintf(stderr, "%s: %zu triangles, %zu lights (%zu emissive triangles), setup %.0f ms\n", o.scene.c_str(),
+                 triangles, renderer.lights().size(), renderer.lights().triangle_count(), setup_ms);
+  std::vector<FrameStats> all;
+  CameraDesc camera = renderer.scene().default_camera();
+  for (int f = 0; f < o.frames; ++f) {
+    auto progress = [&](int done, int total) {
+      if (!o.quiet && total > 4) std::fprintf(stderr, "\r  frame %d/%d: %d/%d spp", f + 1, o.frames, done, total);
+    };
+    FrameStats stats = renderer.render_frame(f, float(f) / o.fps, camera, progress);
+    if (!o.quiet) {
+      std::fprintf(stderr, "\rframe %d/%d: %.1f ms, %.2f Mrays/s |", f + 1, o.frames, stats.total_ms,
+                   stats.rays() / (stats.total_ms * 1e3));
+      for (const StageStats& s : stats.stages) std::fprintf(stderr, " %s %.1f ms", s.name.c_str(), s.ms);
+      std::fprintf(stderr, "\n");
+    }
+    all.push_back(std::move(stats));
+  }
+  write_image(o.out, renderer.image(), o.exposure);
+  if (!o.stats.empty()) write_json_file(o.stats, stats_to_json(all));
+  if (!o.quiet) std::fprintf(stderr, "wrote %s (%d spp accumulated)\n", o.out.c_str(), renderer.accumulated_spp());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Candela: a CPU many-light renderer"};
+  app.require_subcommand(1);
+
+  RenderOptions r;
+  CLI::App* render = app.add_subcommand("render", "Render a scene to an image file");
+  render->add_option("scene", r.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
+  render->add_option("--out,-o", r.out, "Output image: .exr (linear radiance) or .png (tonemapped sRGB)")->required();
+  render->add_option("--width", r.settings.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  render->add_option("--height", r.settings.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  render->add_option("--spp", r.settings.spp, "Samples per pixel per frame")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  render->add_option("--frames", r.frames, "Frames to render; a still scene and camera accumulate across frames")
+      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  render->add_option("--fps", r.fps, "Scene time step between frames is 1/fps seconds (animated scenes)")
+      ->check(CLI::Range(0.001f, 10000.0f))->capture_default_str();
+  render->add_option("--seed", r.settings.seed, "Random seed; same seed, same image, whatever the thread count")->capture_default_str();
+  render->add_option("--max-depth", r.settings.max_depth, "Path tracer bounces; 1 = direct light only")
+      ->check(CLI::Range(1, 1024))->capture_default_str();
+  render->add_option("--method", r.method, "Estimator: pt (reference path tracer)")
+      ->check(CLI::IsMember({"pt"}))->capture_default_str();
+  render->add_option("--light-sampler", r.light_sampler, "Light selection for next-event estimation")
+      ->check(CLI::IsMember({"uniform", "power"}))->capture_default_str();
+  render->add_option("--stats", r.stats, "Write per-frame stage timings and ray counts as JSON");
+  render->add_option("--exposure", r.exposure, "Exposure multiplier applied before tonemapping (PNG only)")
+      ->check(CLI::Range(1e-6f, 1e6f))->capture_default_str();
+  render->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024))->capture_default_str();
+  render->add_option("--lights", r.lights, "builtin:manylights: number of ceiling lights")
+      ->check(CLI::Range(1, 4000000))->capture_default_str();
+  render->add_flag("--quiet,-q", r.quiet, "No progress output");
+
+  BenchOptions b;
+  CLI::App* bench = app.add_subcommand("bench", "Ray throughput benchmarks (Google Benchmark)");
+  add_bench_options(*bench, b);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  int threads = render->parsed() ? r.threads : b.threads;
+  std::unique_ptr<tbb::global_control> limit;
+  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+  try {
+    if (render->parsed()) return run_render(r);
+    return run_bench(b);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,94 @@
+#include "apps/renderer.h"
+
+#include "engine/check.h"
+#include "engine/path_tracer.h"
+
+namespace candela {
+
+AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& lights) {
+  switch (kind) {
+    case LightSamplerKind::Uniform: return UniformLightSampler(lights);
+    case LightSamplerKind::Power: default: return PowerLightSampler(lights);
+  }
+}
+
+Renderer::Renderer(Scene scene, const RenderSettings& settings)
+    : scene_(std::move(scene)),
+      settings_(settings),
+      tracer_(std::make_unique<Tracer>(scene_)),
+      lights_(scene_),
+      sampler_(make_light_sampler(settings.light_sampler, lights_)) {
+  CHECK(settings.width > 0 && settings.height > 0 && settings.spp > 0);
+  sum_ = Image(settings.width, settings.height);
+}
+
+static bool same_camera(const CameraDesc& a, const CameraDesc& b) {
+  return a.position == b.position && a.target == b.target && a.up == b.up && a.vfov_degrees == b.vfov_degrees;
+}
+
+// Stage "scene_update": moves animated instances, re-commits the instance BVH, re-places moving lights,
+// rotates camera history and decides whether accumulation continues. Cost: O(animated instances + their lights).
+void Renderer::update_scene(float time, const CameraDesc& camera, FrameStats& stats) {
+  StageTimer timer(stats, "scene_update");
+  bool moved = false;
+  if (!scene_.motions.empty() && (time != scene_.time || !has_frame_)) {
+    scene_.set_time(time);
+    tracer_->update_instances(scene_);
+    lights_.update(scene_);
+    // Rigid motion keeps every light's power, so the power sampler's table stays valid.
+    moved = true;
+  } else if (has_frame_) {
+    for (Instance& inst : scene_.instances) inst.prev_transform = inst.transform;
+  }
+  Camera next(camera, settings_.width, settings_.height);
+  prev_camera_ = has_frame_ ? camera_ : next;
+  bool camera_moved = has_frame_ && !same_camera(camera, camera_desc_);
+  camera_ = next;
+  camera_desc_ = camera;
+  if (moved || camera_moved || !settings_.accumulate) {
+    std::fill(sum_.pixels.begin(), sum_.pixels.end(), vec3(0.0f));
+    accumulated_spp_ = 0;
+  }
+  std::swap(gbuffer_, prev_gbuffer_);
+  has_frame_ = true;
+}
+
+FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc& camera,
+                                  const std::function<void(int, int)>& progress) {
+  FrameStats stats;
+  stats.frame = frame_index;
+  auto start = std::chrono::steady_clock::now();
+  update_scene(time, camera, stats);
+  {
+    StageTimer timer(stats, "gbuffer");
+    trace_gbuffer(scene_, *tracer_, camera_, prev_camera_, GBufferParams{settings_.seed, frame_index, true}, gbuffer_,
+                  timer.rays());
+  }
+  {
+    StageTimer timer(stats, "path_trace");
+    SceneView view{scene_, *tracer_, lights_, camera_};
+    // Sample passes of at most 4 spp, so long renders can report progress.
+    for (int done = 0; done < settings_.spp;) {
+      PathTracerParams params;
+      params.spp = std::min(4, settings_.spp - done);
+      params.first_sample = accumulated_spp_;
+      params.max_depth = settings_.max_depth;
+      params.seed = settings_.seed;
+      std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
+      done += params.spp;
+      accumulated_spp_ += params.spp;
+      if (progress) progress(done, settings_.spp);
+    }
+  }
+  stats.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+Image Renderer::image() const {
+  Image out(sum_.width, sum_.height);
+  float inv = accumulated_spp_ > 0 ? 1.0f / float(accumulated_spp_) : 0.0f;
+  for (size_t i = 0; i < out.pixels.size(); ++i) out.pixels[i] = sum_.pixels[i] * inv;
+  return out;
+}
+
+}  // namespace candela

@@ -1,0 +1,71 @@
+#pragma once
+// The frame pipeline: owns the scene, tracer, lights, light samplers and frame buffers, and runs the stages
+// of one frame in order (scene update, G-buffer, the chosen estimator, resolve), timing each one.
+// History (last frame's camera and G-buffer) is rotated here and nowhere else.
+#include <functional>
+#include <memory>
+#include <string>
+#include <variant>
+
+#include "engine/camera.h"
+#include "engine/frame_stats.h"
+#include "engine/gbuffer.h"
+#include "engine/image.h"
+#include "engine/lights.h"
+#include "engine/scene.h"
+#include "engine/tracer.h"
+#include "samplers/simple_samplers.h"
+
+namespace candela {
+
+enum class Method { PathTrace };
+enum class LightSamplerKind { Uniform, Power };
+
+struct RenderSettings {
+  int width = 640, height = 360;
+  int spp = 1;                 // samples per pixel per frame
+  int max_depth = 8;           // path tracer bounces (1 = direct light only)
+  uint64_t seed = 1;
+  Method method = Method::PathTrace;
+  LightSamplerKind light_sampler = LightSamplerKind::Power;
+  bool accumulate = true;      // progressive accumulation while camera and scene stay still
+};
+
+using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler>;
+
+class Renderer {
+ public:
+  Renderer(Scene scene, const RenderSettings& settings);
+
+  // Renders frame `frame_index` at scene time `time` seen from `camera`; returns its stats.
+  // `progress`, if set, is called after each sample pass with (samples done, samples total).
+  FrameStats render_frame(int frame_index, float time, const CameraDesc& camera,
+                          const std::function<void(int, int)>& progress = {});
+  // The displayed image: accumulated radiance divided by the samples accumulated so far.
+  Image image() const;
+  int accumulated_spp() const { return accumulated_spp_; }
+  const GBuffer& gbuffer() const { return gbuffer_; }
+  const Scene& scene() const { return scene_; }
+  const LightList& lights() const { return lights_; }
+  const Tracer& tracer() const { return *tracer_; }
+  const RenderSettings& settings() const { return settings_; }
+
+ private:
+  void update_scene(float time, const CameraDesc& camera, FrameStats& stats);
+
+  Scene scene_;
+  RenderSettings settings_;
+  std::unique_ptr<Tracer> tracer_;
+  LightList lights_;
+  AnyLightSampler sampler_;
+  Camera camera_, prev_camera_;
+  CameraDesc camera_desc_;
+  bool has_frame_ = false;
+  GBuffer gbuffer_, prev_gbuffer_;
+  Image sum_;
+  int accumulated_spp_ = 0;
+};
+
+AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& lights);
+
+}  // namespace candela

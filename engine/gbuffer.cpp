@@ -1,0 +1,100 @@
+#include "engine/gbuffer.h"
+
+#include "engine/rng.h"
+#include "engine/surface.h"
+#include "engine/tiles.h"
+
+namespace candela {
+
+void GBuffer::resize(int w, int h) {
+  width = w;
+  height = h;
+  size_t n = size();
+  position.assign(n, vec3(0.0f));
+  shading_normal.assign(n, vec3(0.0f));
+  geometric_normal.assign(n, vec3(0.0f));
+  depth.assign(n, kInfinity);
+  albedo.assign(n, vec3(0.0f));
+  roughness_metallic.assign(n, vec2(0.0f));
+  emission.assign(n, vec3(0.0f));
+  instance.assign(n, kNoHit);
+  prim.assign(n, kNoHit);
+  motion.assign(n, vec2(0.0f));
+  jitter.assign(n, vec2(0.5f));
+}
+
+// Writes pixel i from a primary hit: surface attributes and the motion vector, which follows the hit
+// point through its instance's previous transform into the previous camera.
+static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_current, const Camera& camera,
+                        const Camera& prev_camera, const Hit& hit, const vec3& dir, vec2 film, size_t i, GBuffer& g) {
+  if (!hit.valid()) {
+    g.instance[i] = kNoHit;
+    g.depth[i] = kInfinity;
+    g.emission[i] = scene.environment;
+    g.motion[i] = vec2(0.0f);
+    vec2 prev_film;
+    // The background moves with the camera's rotation only.
+    if (prev_camera.project(camera.position() + dir, prev_film)) g.motion[i] = prev_film - film;
+    return;
+  }
+  SurfacePoint sp = surface_at(scene, hit.instance, hit.prim, hit.barycentric, -dir);
+  g.position[i] = sp.position;
+  g.shading_normal[i] = sp.shading_normal;
+  g.geometric_normal[i] = sp.geometric_normal;
+  g.depth[i] = camera.view_depth(sp.position);
+  g.albedo[i] = sp.base_color;
+  g.roughness_metallic[i] = vec2(sp.roughness, sp.metallic);
+  g.emission[i] = sp.emission;
+  g.instance[i] = hit.instance;
+  g.prim[i] = hit.prim;
+  vec3 prev_position = scene.instances[hit.instance].animated
+                           ? transform_point(prev_from_current[hit.instance], sp.position) : sp.position;
+  vec2 prev_film, cur_film;
+  bool ok = prev_camera.project(prev_position, prev_film) && camera.project(sp.position, cur_film);
+  g.motion[i] = ok ? prev_film - cur_film : vec2(0.0f);
+}
+
+void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camera, const Camera& prev_camera,
+                   const GBufferParams& params, GBuffer& out, RayCounter& rays) {
+  if (out.width != camera.width() || out.height != camera.height()) out.resize(camera.width(), camera.height());
+  const int w = out.width;
+  // Per animated instance, the map from this frame's world position to last frame's (identity otherwise).
+  std::vector<mat4> prev_from_current(scene.instances.size(), mat4(1.0f));
+  for (size_t k = 0; k < scene.instances.size(); ++k)
+    if (scene.instances[k].animated)
+      prev_from_current[k] = scene.instances[k].prev_transform * glm::inverse(scene.instances[k].transform);
+  for_each_tile(out.width, out.height, [&](const Tile& tile) {
+    RayPacket16 packet;
+    vec2 film[16];
+    uint64_t traced = 0;
+    for (int by = tile.y0; by < tile.y1; by += 4) {
+      for (int bx = tile.x0; bx < tile.x1; bx += 4) {
+        // Fill one 4x4 packet; lanes outside the image stay inactive.
+        for (int lane = 0; lane < 16; ++lane) {
+          int x = bx + (lane & 3), y = by + (lane >> 2);
+          if (x >= tile.x1 || y >= tile.y1) { packet.set_inactive(lane); continue; }
+          size_t i = size_t(y) * w + x;
+          vec2 j(0.5f);
+          if (params.jitter) {
+            Rng rng = Rng::for_key(params.seed, i, uint64_t(params.frame), 0x6b);
+            j = vec2(rng.next_float(), rng.next_float());
+          }
+          out.jitter[i] = j;
+          film[lane] = vec2(x, y) + j;
+          packet.set(lane, Ray{camera.position(), camera.direction(film[lane].x, film[lane].y), 0.0f, kInfinity});
+          ++traced;
+        }
+        tracer.intersect16(packet, true);
+        for (int lane = 0; lane < 16; ++lane) {
+          if (!packet.valid[lane]) continue;
+          int x = bx + (lane & 3), y = by + (lane >> 2);
+          vec3 dir(packet.rayhit.ray.dir_x[lane], packet.rayhit.ray.dir_y[lane], packet.rayhit.ray.dir_z[lane]);
+          write_pixel(scene, prev_from_current, camera, prev_camera, packet.hit(lane), dir, film[lane], size_t(y) * w + x, out);
+        }
+      }
+    }
+    rays.add(traced);
+  });
+}
+
+}  // namespace candela

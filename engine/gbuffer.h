@@ -1,0 +1,43 @@
+#pragma once
+// The G-buffer: one plane per attribute (structure of arrays) of the surface seen through each pixel,
+// and the stage that fills it with jittered primary rays traced in 4x4 packets.
+#include <vector>
+
+#include "engine/camera.h"
+#include "engine/frame_stats.h"
+#include "engine/scene.h"
+#include "engine/tracer.h"
+
+namespace candela {
+
+struct GBuffer {
+  int width = 0, height = 0;
+  std::vector<vec3> position;
+  std::vector<vec3> shading_normal;
+  std::vector<vec3> geometric_normal;
+  std::vector<float> depth;          // linear view depth; kInfinity where nothing was hit
+  std::vector<vec3> albedo;          // base colour
+  std::vector<vec2> roughness_metallic;
+  std::vector<vec3> emission;
+  std::vector<uint32_t> instance;    // kNoHit where nothing was hit
+  std::vector<uint32_t> prim;
+  std::vector<vec2> motion;          // pixels from this frame's position to last frame's
+  std::vector<vec2> jitter;          // sub-pixel offset of the primary ray, in [0,1)^2
+
+  void resize(int w, int h);
+  size_t size() const { return size_t(width) * height; }
+  bool hit(size_t i) const { return instance[i] != kNoHit; }
+};
+
+struct GBufferParams {
+  uint64_t seed = 0;
+  int frame = 0;
+  bool jitter = true;  // false: rays through pixel centres
+};
+
+// Reads scene, tracer and both cameras; writes every plane of `out`. Traces one ray per pixel
+// (rtcIntersect16 on 4x4 pixel blocks, coherent flag); shading costs one surface_at per hit.
+void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camera, const Camera& prev_camera,
+                   const GBufferParams& params, GBuffer& out, RayCounter& rays);
+
+}  // namespace candela

@@ -1,0 +1,36 @@
+#pragma once
+// glTF 2.0 loader (.gltf and .glb, through tinygltf): turns a file into a candela::Scene.
+//
+// What it reads: the default scene's node hierarchy (all root nodes when no scene is given), triangle
+// primitives (one candela Mesh per glTF (mesh, primitive) pair, instanced by every node that uses it),
+// metallic-roughness materials with KHR_materials_emissive_strength and KHR_texture_transform, textures
+// (as 8-bit RGBA), KHR_lights_punctual lights and the first perspective camera.
+//
+// Choices worth knowing:
+// - A primitive without NORMAL keeps Mesh::normals empty: the renderer uses geometric normals.
+// - A texture used both as colour (base colour, emission: sRGB) and as data (normal, metallic-roughness:
+//   linear) is duplicated; the linear copy is appended after the glTF textures.
+// - A texture whose image is missing or cannot be decoded stays in Scene::textures as a 1x1 white
+//   placeholder (indices keep matching the glTF file) and every material slot naming it becomes -1.
+// - Out-of-range material factors are clamped with a warning; emissiveFactor above 1 is kept silently.
+// - Degenerate triangles (a repeated index or exactly zero area) are dropped and counted once per mesh.
+// - Skins, morph targets and animations are ignored (the static pose is loaded) with a warning.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+
+namespace candela {
+
+// What a load noticed without failing.
+struct LoadReport {
+  size_t degenerate_triangles_skipped = 0;  // over unique meshes, not instances
+  std::vector<std::string> warnings;        // each starts with the file path
+};
+
+// Loads a .gltf/.glb file into a Scene. Throws InputError("<file>: <what is wrong and where>") on bad
+// input; no other exception escapes for a bad file. `report`, if given, is cleared and then filled.
+Scene load_gltf(const std::string& path, LoadReport* report = nullptr);
+
+}  // namespace candela

@@ -1,0 +1,30 @@
+#pragma once
+// Linear RGB images, tonemapping and atomic image files (EXR keeps linear radiance, PNG is tonemapped sRGB).
+#include <string>
+#include <vector>
+
+#include "engine/math.h"
+
+namespace candela {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<vec3> pixels;  // row-major, row 0 at the top
+
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), pixels(size_t(w) * h, vec3(0.0f)) {}
+  vec3& at(int x, int y) { return pixels[size_t(y) * width + x]; }
+  const vec3& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
+  vec3 mean() const;
+};
+
+// ACES filmic curve fitted by Narkowicz 2015 ("ACES Filmic Tone Mapping Curve"), then the sRGB OETF.
+vec3 tonemap_srgb(const vec3& linear, float exposure = 1.0f);
+
+// Writes .exr (float, linear) or .png (8-bit tonemapped sRGB) chosen by extension. The file appears
+// atomically (written beside it under a temporary name, then renamed). Throws InputError on failure.
+void write_image(const std::string& path, const Image& image, float exposure = 1.0f);
+// Reads an EXR (or any OIIO format) as linear RGB. Throws InputError naming the file on failure.
+Image read_image(const std::string& path);
+
+}  // namespace candela

@@ -1,0 +1,28 @@
+#pragma once
+// The contract between estimators and light-selection policies (which live in samplers/): given a shading
+// point, pick a light index with a probability, and report that probability for any index. Estimators
+// take the policy as a template parameter constrained by this concept, so engine/ stays policy-free.
+#include <concepts>
+#include <cstdint>
+
+#include "engine/math.h"
+
+namespace candela {
+
+struct ShadingContext {
+  vec3 position{0.0f};
+  vec3 normal{0.0f};  // zero when unknown (e.g. a point in a medium)
+};
+
+struct SampledLight {
+  uint32_t index = 0;
+  float pmf = 0.0f;  // zero: no light could be chosen
+};
+
+template <class S>
+concept LightSampler = requires(const S& s, const ShadingContext& ctx, float u, uint32_t index) {
+  { s.sample(ctx, u) } -> std::same_as<SampledLight>;
+  { s.pmf(ctx, index) } -> std::convertible_to<float>;
+};
+
+}  // namespace candela

@@ -1,0 +1,80 @@
+#pragma once
+// The light list the samplers index: emissive triangles that really emit (their emission integrated over
+// the triangle, since most glTF emissive textures are black almost everywhere), punctual lights in world
+// space, and the uniform environment. Index space: [0, triangles) triangle lights, then punctual lights.
+// Also the per-light geometry sampling used by next-event estimation.
+#include <vector>
+
+#include "engine/scene.h"
+#include "engine/tracer.h"
+
+namespace candela {
+
+struct TriangleLight {
+  vec3 p0, e1, e2;            // world corner and edges
+  vec3 normal;                // unit, by winding (the emitting side of one-sided emitters)
+  float area = 0.0f;
+  vec3 average_radiance{0.0f};// emission averaged over the triangle
+  uint32_t instance = 0, prim = 0;
+  bool two_sided = false;
+  float power() const { return luminance(average_radiance) * area * kPi * (two_sided ? 2.0f : 1.0f); }
+};
+
+// Per mesh, which primitives emit and their averaged emission (computed once, shared by instances).
+struct MeshEmission {
+  std::vector<uint32_t> prims;           // emitting primitives
+  std::vector<vec3> average_radiance;    // per entry of prims
+  std::vector<int32_t> light_of_prim;    // prim -> position in prims, or -1
+};
+
+// A point on a light as seen from a shading point: where, how bright towards it, and its density.
+struct LightSample {
+  vec3 position{0.0f};
+  vec3 normal{0.0f};       // zero for punctual lights
+  vec3 wi{0.0f};           // unit direction from the shading point to the light
+  float distance = 0.0f;   // kInfinity for directional lights
+  vec3 radiance{0.0f};     // incident radiance (area lights) or irradiance-like intensity / d^2 (delta lights)
+  float pdf = 0.0f;        // solid-angle density for area lights; 1 for delta lights
+  bool is_delta = false;
+};
+
+// Emitted radiance above which a triangle counts as a light (linear, per channel).
+inline constexpr float kEmissionThreshold = 1e-3f;
+
+class LightList {
+ public:
+  LightList() = default;
+  // Integrates emission per mesh and places lights through instances. Cost: O(emissive triangles * samples).
+  explicit LightList(const Scene& scene);
+  // Re-places lights of animated instances after Scene::set_time (O(their lights)).
+  void update(const Scene& scene);
+
+  size_t size() const { return triangles_.size() + punctual_.size(); }
+  size_t triangle_count() const { return triangles_.size(); }
+  const std::vector<TriangleLight>& triangles() const { return triangles_; }
+  const std::vector<PunctualLight>& punctual() const { return punctual_; }
+  vec3 environment() const { return environment_; }
+  float power(size_t index) const;
+  // Light index of an emitting triangle, or -1 if (instance, prim) is not in the list.
+  int64_t light_index(uint32_t instance, uint32_t prim) const;
+  // Samples a point on light `index` as seen from p, with u in [0,1)^2.
+  LightSample sample(const Scene& scene, size_t index, const vec3& p, vec2 u) const;
+  // Solid-angle density with which sample() picks the point y (normal ny) on triangle light `index` from p.
+  float pdf_solid_angle(size_t index, const vec3& p, const vec3& y) const;
+
+ private:
+  void place_instance(const Scene& scene, uint32_t instance);
+  static PunctualLight to_world(const Scene& scene, const PunctualLight& light);
+
+  std::vector<MeshEmission> mesh_emission_;
+  std::vector<uint32_t> instance_mesh_;
+  std::vector<int64_t> instance_first_light_;  // per instance: index of its first triangle light, or -1
+  std::vector<TriangleLight> triangles_;
+  std::vector<PunctualLight> punctual_;
+  vec3 environment_{0.0f};
+};
+
+// Averages a material's emission over a mesh triangle by stratified sampling of its UV footprint.
+vec3 integrate_triangle_emission(const Scene& scene, const Mesh& mesh, uint32_t prim);
+
+}  // namespace candela

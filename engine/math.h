@@ -1,0 +1,55 @@
+#pragma once
+// Vector types (GLM) and the small geometric helpers every stage shares.
+#include <glm/glm.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace candela {
+
+using glm::vec2;
+using glm::vec3;
+using glm::vec4;
+using glm::mat3;
+using glm::mat4;
+using glm::uvec3;
+
+inline constexpr float kPi = 3.14159265358979323846f;
+inline constexpr float kInvPi = 1.0f / kPi;
+inline constexpr float kInfinity = 1e30f;
+
+// Rec. 709 luminance of linear RGB.
+inline float luminance(const vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+inline float max_component(const vec3& c) { return std::max(c.x, std::max(c.y, c.z)); }
+inline bool is_finite(const vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Orthonormal basis around unit n (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
+struct Frame {
+  vec3 t, b, n;
+  static Frame from_normal(const vec3& n) {
+    float sign = std::copysign(1.0f, n.z);
+    float a = -1.0f / (sign + n.z);
+    float b = n.x * n.y * a;
+    return {vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x), vec3(b, sign + n.y * n.y * a, -n.y), n};
+  }
+  vec3 to_local(const vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
+  vec3 to_world(const vec3& v) const { return t * v.x + b * v.y + n * v.z; }
+};
+
+inline vec3 transform_point(const mat4& m, const vec3& p) { return vec3(m * vec4(p, 1.0f)); }
+inline vec3 transform_vector(const mat4& m, const vec3& v) { return mat3(m) * v; }
+// Normals transform by the inverse transpose of the linear part.
+inline vec3 transform_normal(const mat3& inv_transpose, const vec3& n) { return glm::normalize(inv_transpose * n); }
+
+// Axis-aligned box.
+struct Bounds3 {
+  vec3 lo{kInfinity}, hi{-kInfinity};
+  void extend(const vec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+  void extend(const Bounds3& b) { lo = glm::min(lo, b.lo); hi = glm::max(hi, b.hi); }
+  bool empty() const { return lo.x > hi.x; }
+  vec3 center() const { return 0.5f * (lo + hi); }
+  vec3 extent() const { return hi - lo; }
+  float diagonal() const { return empty() ? 0.0f : glm::length(hi - lo); }
+};
+
+}  // namespace candela

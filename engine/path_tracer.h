@@ -1,0 +1,141 @@
+#pragma once
+// Reference path tracer: unidirectional, next-event estimation combined with BSDF sampling by multiple
+// importance sampling (Veach 1997, power heuristic, beta = 2), Russian roulette after three bounces.
+// It is the ground truth of every convergence test, so it favours clarity over speed.
+// The light-selection policy is a template parameter (engine/light_sampler.h).
+#include "engine/camera.h"
+#include "engine/frame_stats.h"
+#include "engine/image.h"
+#include "engine/light_sampler.h"
+#include "engine/lights.h"
+#include "engine/rng.h"
+#include "engine/surface.h"
+#include "engine/tiles.h"
+
+namespace candela {
+
+struct PathTracerParams {
+  int spp = 1;             // paths per pixel per call
+  int first_sample = 0;    // index of the first of them (progressive passes continue the sequence)
+  int max_depth = 8;       // bounces; 1 = direct light only (emission seen + one reflection)
+  int rr_start_depth = 3;  // Russian roulette from this bounce on (keeps deep paths unbiased)
+  uint64_t seed = 0;
+};
+
+// Everything a frame's estimators read about the scene, fixed for the frame.
+struct SceneView {
+  const Scene& scene;
+  const Tracer& tracer;
+  const LightList& lights;
+  const Camera& camera;
+};
+
+inline float power_heuristic(float a, float b) {
+  float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+}
+
+// Next-event estimation at one surface point: picks a light with the sampler, samples a point on it,
+// traces one shadow ray and returns the MIS-weighted contribution (without the path throughput).
+template <LightSampler S>
+vec3 estimate_direct_light(const SceneView& view, const S& sampler, const SurfacePoint& sp, const Bsdf& bsdf,
+                           const vec3& wo, Rng& rng, uint64_t& rays) {
+  ShadingContext ctx{sp.position, sp.shading_normal};
+  SampledLight chosen = sampler.sample(ctx, rng.next_float());
+  vec2 u(rng.next_float(), rng.next_float());
+  if (chosen.pmf <= 0.0f) return vec3(0.0f);
+  LightSample ls = view.lights.sample(view.scene, chosen.index, sp.position, u);
+  if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return vec3(0.0f);
+  if (glm::dot(ls.wi, sp.geometric_normal) <= 0.0f) return vec3(0.0f);
+  vec3 f = bsdf.eval(wo, ls.wi) * std::abs(glm::dot(ls.wi, sp.shading_normal));
+  if (max_component(f) <= 0.0f) return vec3(0.0f);
+  Ray shadow = ls.distance >= kInfinity ? view.tracer.spawn_ray(sp.position, sp.geometric_normal, ls.wi)
+                                        : ls.is_delta ? view.tracer.spawn_ray_to(sp.position, sp.geometric_normal, ls.position, -ls.wi)
+                                                      : view.tracer.spawn_ray_to(sp.position, sp.geometric_normal, ls.position, ls.normal);
+  ++rays;
+  if (view.tracer.occluded(shadow)) return vec3(0.0f);
+  float p_light = chosen.pmf * ls.pdf;
+  float weight = ls.is_delta ? 1.0f : power_heuristic(p_light, bsdf.pdf(wo, ls.wi));
+  return f * ls.radiance * (weight / p_light);
+}
+
+// One path through film position `film`; returns its radiance estimate.
+template <LightSampler S>
+vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams& params, vec2 film, Rng& rng,
+                uint64_t& rays) {
+  Ray ray{view.camera.position(), view.camera.direction(film.x, film.y), 0.0f, kInfinity};
+  vec3 L(0.0f), beta(1.0f);
+  float prev_bsdf_pdf = 0.0f;
+  ShadingContext prev_ctx;
+  for (int depth = 0;; ++depth) {
+    Hit hit = view.tracer.intersect(ray);
+    ++rays;
+    if (!hit.valid()) {
+      L += beta * view.lights.environment();  // the environment is reached by BSDF sampling only
+      break;
+    }
+    SurfacePoint sp = surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -ray.direction);
+    // Emission reached by a BSDF ray, weighted against the chance NEE would have sampled the same point.
+    if (max_component(sp.emission) > 0.0f) {
+      float weight = 1.0f;
+      int64_t light = depth == 0 ? -1 : view.lights.light_index(hit.instance, hit.prim);
+      if (light >= 0) {
+        float p_light = sampler.pmf(prev_ctx, uint32_t(light)) *
+                        view.lights.pdf_solid_angle(size_t(light), prev_ctx.position, sp.position);
+        weight = power_heuristic(prev_bsdf_pdf, p_light);
+      }
+      L += beta * sp.emission * weight;
+    }
+    if (depth >= params.max_depth) break;
+
+    vec3 wo = -ray.direction;
+    Bsdf bsdf = sp.bsdf();
+    L += beta * estimate_direct_light(view, sampler, sp, bsdf, wo, rng, rays);
+
+    // Continue the path by sampling the BSDF.
+    BsdfSample bs;
+    vec2 u(rng.next_float(), rng.next_float());
+    if (!bsdf.sample(wo, u, rng.next_float(), bs)) break;
+    if (glm::dot(bs.wi, sp.geometric_normal) <= 0.0f) break;
+    beta *= bs.f * (std::abs(glm::dot(bs.wi, sp.shading_normal)) / bs.pdf);
+    prev_bsdf_pdf = bs.pdf;
+    prev_ctx = ShadingContext{sp.position, sp.shading_normal};
+    ray = view.tracer.spawn_ray(sp.position, sp.geometric_normal, bs.wi);
+
+    if (depth + 1 >= params.rr_start_depth) {
+      float survive = std::min(0.95f, max_component(beta));
+      if (rng.next_float() >= survive) break;
+      beta /= survive;
+    }
+    if (!is_finite(beta)) break;
+  }
+  return L;
+}
+
+// Stage: adds params.spp path samples per pixel into `sum` (running sum of radiance; divide by the total
+// sample count to display). Reads the scene view; traces about spp * (1 + 2 * depth) rays per pixel.
+// Randomness is keyed on (seed, pixel, frame, sample), so the result does not depend on thread count.
+template <LightSampler S>
+void path_trace(const SceneView& view, const S& sampler, const PathTracerParams& params, int frame, Image& sum,
+                RayCounter& rays) {
+  const int w = view.camera.width();
+  for_each_tile(view.camera.width(), view.camera.height(), [&](const Tile& tile) {
+    uint64_t traced = 0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        size_t pixel = size_t(y) * w + x;
+        vec3 acc(0.0f);
+        for (int s = 0; s < params.spp; ++s) {
+          Rng rng = Rng::for_key(params.seed, pixel, uint64_t(params.first_sample + s), uint64_t(frame));
+          vec2 film = vec2(x, y) + vec2(rng.next_float(), rng.next_float());
+          vec3 L = trace_path(view, sampler, params, film, rng, traced);
+          if (is_finite(L)) acc += L;
+        }
+        sum.pixels[pixel] += acc;
+      }
+    }
+    rays.add(traced);
+  });
+}
+
+}  // namespace candela

@@ -1,0 +1,36 @@
+#pragma once
+// What a ray hit: world-space position, normals (geometric and normal-mapped shading normal, both turned
+// to face the viewer), texture-resolved material parameters and emitted radiance.
+#include "engine/bsdf.h"
+#include "engine/scene.h"
+#include "engine/tracer.h"
+
+namespace candela {
+
+struct SurfacePoint {
+  vec3 position{0.0f};
+  vec3 geometric_normal{0.0f, 0.0f, 1.0f};  // faces wo
+  vec3 shading_normal{0.0f, 0.0f, 1.0f};    // faces wo (normal map applied)
+  vec3 base_color{0.0f};
+  float metallic = 0.0f, roughness = 1.0f;
+  vec3 emission{0.0f};                      // radiance leaving towards wo
+  uint32_t instance = kNoHit, prim = kNoHit;
+  bool front_face = true;                   // wo is on the side the triangle's winding faces
+  Bsdf bsdf() const { return Bsdf(shading_normal, base_color, metallic, roughness); }
+};
+
+// World-space corners of a triangle of an instance.
+struct WorldTriangle {
+  vec3 p0, p1, p2;
+  vec3 normal() const { return glm::cross(p1 - p0, p2 - p0); }  // unnormalised, by winding
+};
+WorldTriangle world_triangle(const Scene& scene, uint32_t instance, uint32_t prim);
+
+// Full shading data of the point at barycentric (u, v) on (instance, prim), seen from direction wo.
+SurfacePoint surface_at(const Scene& scene, uint32_t instance, uint32_t prim, vec2 barycentric, const vec3& wo);
+// Radiance emitted towards w by the point at barycentric (u, v) (zero from the back of one-sided emitters).
+vec3 emission_at(const Scene& scene, uint32_t instance, uint32_t prim, vec2 barycentric, const vec3& w);
+// Emissive colour of a material at a UV point (factor * strength * texture), ignoring orientation.
+vec3 material_emission(const Scene& scene, const Material& m, vec2 uv0, vec2 uv1);
+
+}  // namespace candela

@@ -1,0 +1,26 @@
+#pragma once
+// Tile-parallel loop over an image: square tiles handed to TBB workers, each worker with flush-to-zero
+// set. The result never depends on which thread ran which tile (stages key randomness on pixels).
+#include <tbb/parallel_for.h>
+
+#include "engine/tracer.h"
+
+namespace candela {
+
+struct Tile {
+  int x0, y0, x1, y1;  // half-open pixel rectangle
+};
+
+inline constexpr int kTileSize = 16;
+
+template <class Fn>
+void for_each_tile(int width, int height, Fn&& fn) {
+  int tiles_x = (width + kTileSize - 1) / kTileSize, tiles_y = (height + kTileSize - 1) / kTileSize;
+  tbb::parallel_for(0, tiles_x * tiles_y, [&](int t) {
+    enable_ftz_daz();
+    int x0 = (t % tiles_x) * kTileSize, y0 = (t / tiles_x) * kTileSize;
+    fn(Tile{x0, y0, std::min(x0 + kTileSize, width), std::min(y0 + kTileSize, height)});
+  });
+}
+
+}  // namespace candela
