@@ -50,19 +50,21 @@ vec3 ggx_sample_visible_normal(const vec3& wo, float alpha, vec2 u) {
   return glm::normalize(vec3(alpha * nh.x, alpha * nh.y, std::max(1e-6f, nh.z)));
 }
 
-Bsdf::Bsdf(const vec3& n, const vec3& base_color, float metallic, float roughness)
+Bsdf::Bsdf(const vec3& n, const vec3& base_color, float metallic, float roughness, float specular)
     : frame_(Frame::from_normal(n)),
       diffuse_(base_color * (1.0f - metallic)),
-      f0_(glm::mix(vec3(0.04f), base_color, metallic)) {
+      f0_(glm::mix(vec3(0.04f), base_color, metallic)),
+      specular_(std::clamp(specular, 0.0f, 1.0f)) {
   float r = std::clamp(roughness, 0.03f, 1.0f);
   alpha_ = r * r;
 }
 
 // Probability of sampling the specular lobe: its Fresnel-weighted share at the outgoing angle.
 float Bsdf::specular_probability(float cos_o) const {
-  vec3 f = schlick(f0_, cos_o);
+  if (specular_ == 0.0f) return 0.0f;
+  vec3 f = specular_ * schlick(f0_, cos_o);
   float spec = luminance(f);
-  float diff = luminance(diffuse_ * (vec3(1.0f) - f));
+  float diff = luminance(diffuse_ * (vec3(1.0f) - f0_));
   if (spec + diff <= 0.0f) return 0.5f;
   return std::clamp(spec / (spec + diff), 0.1f, 0.9f);
 }
@@ -71,10 +73,12 @@ vec3 Bsdf::eval(const vec3& wo_world, const vec3& wi_world) const {
   vec3 wo = frame_.to_local(wo_world), wi = frame_.to_local(wi_world);
   if (wo.z <= 0.0f || wi.z <= 0.0f) return vec3(0.0f);
   vec3 h = glm::normalize(wo + wi);
-  vec3 F = schlick(f0_, glm::dot(wo, h));
+  vec3 F = specular_ * schlick(f0_, glm::dot(wo, h));
   float G2 = 1.0f / (1.0f + ggx_lambda(wo.z, alpha_) + ggx_lambda(wi.z, alpha_));
   vec3 specular = F * (ggx_d(h.z, alpha_) * G2 / (4.0f * wo.z * wi.z));
-  return (vec3(1.0f) - F) * diffuse_ * kInvPi + specular;
+  auto grazing = [](float c) { float m = 1.0f - 0.5f * c; return 1.0f - (m * m) * (m * m) * m; };
+  vec3 coupled = (28.0f / 23.0f) * (vec3(1.0f) - f0_) * (grazing(wo.z) * grazing(wi.z));
+  return diffuse_ * kInvPi * ((1.0f - specular_) + specular_ * coupled) + specular;
 }
 
 float Bsdf::pdf(const vec3& wo_world, const vec3& wi_world) const {

@@ -1,8 +1,12 @@
 #pragma once
-// glTF metallic-roughness BSDF: a Lambert diffuse lobe and a GGX microfacet specular lobe with Schlick
-// Fresnel and the height-correlated Smith masking-shadowing term, mixed as in the glTF 2.0 specification
-// (Appendix B): f = (1 - F) * diffuse / pi + F * D * G2 / (4 |n.wo| |n.wi|), F0 = mix(0.04, base, metallic),
-// diffuse = base * (1 - metallic). Directions are world-space unit vectors pointing away from the surface;
+// glTF metallic-roughness BSDF: a diffuse lobe and a GGX microfacet specular lobe with Schlick Fresnel and
+// the height-correlated Smith masking-shadowing term:
+//   f_spec = s F(wo.h) D(h) G2 / (4 |n.wo| |n.wi|),  F0 = mix(0.04, base, metallic)   (Walter et al. 2007)
+//   f_diff = (1 - s) diffuse / pi + s (28 / 23 pi) diffuse (1 - F0) (1 - (1 - |n.wi|/2)^5) (1 - (1 - |n.wo|/2)^5)
+// with diffuse = base * (1 - metallic) and s the specular factor. The diffuse term couples to the specular
+// lobe as in Ashikhmin & Shirley 2000 (eq. 5), which keeps the sum reciprocal and energy-conserving at
+// grazing angles, where the glTF specification's (1 - F) weighting reflects up to 1.3x the incident energy;
+// with s = 0 it is exactly Lambert. Directions are world-space unit vectors pointing away from the surface;
 // eval returns f without the cosine. Reflection only (no transmission).
 #include "engine/math.h"
 
@@ -17,8 +21,9 @@ struct BsdfSample {
 class Bsdf {
  public:
   Bsdf() = default;
-  // n: unit shading normal on the side of wo; base colour linear RGB; roughness in [0, 1] (perceptual).
-  Bsdf(const vec3& n, const vec3& base_color, float metallic, float roughness);
+  // n: unit shading normal on the side of wo; base colour linear RGB; roughness in [0, 1] (perceptual);
+  // specular scales the specular lobe (KHR_materials_specular's factor; 0 leaves a pure Lambert lobe).
+  Bsdf(const vec3& n, const vec3& base_color, float metallic, float roughness, float specular = 1.0f);
 
   vec3 eval(const vec3& wo, const vec3& wi) const;
   float pdf(const vec3& wo, const vec3& wi) const;
@@ -34,6 +39,7 @@ class Bsdf {
   Frame frame_{vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1)};
   vec3 diffuse_{0.0f};  // base * (1 - metallic)
   vec3 f0_{0.04f};
+  float specular_ = 1.0f;
   float alpha_ = 1.0f;  // GGX alpha = roughness^2
 };
 

@@ -264,6 +264,7 @@ Scene make_furnace_scene(float albedo, float emission) {
   m.base_color = vec4(vec3(albedo), 1.0f);
   m.emission = vec3(emission);
   m.roughness = 1.0f;
+  m.specular = 0.0f;  // a pure Lambert reflector, so that the albedo is exactly `albedo`
   s.materials.push_back(m);
   s.meshes.push_back(std::move(mesh));
   s.instances.push_back(Instance{0});

@@ -39,6 +39,12 @@ struct Context {
 
 std::string quoted_name(const std::string& name) { return name.empty() ? "" : " '" + name + "'"; }
 
+std::string format_number(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
 // Throws unless 0 <= index < size; `what` names the kind of object referenced ("accessor", ...).
 void check_index(const Context& ctx, int index, size_t size, const std::string& what, const std::string& where) {
   if (index < 0 || size_t(index) >= size)
@@ -621,12 +627,6 @@ TextureTable convert_textures(const Context& ctx, Scene& scene) {
 // ---------------------------------------------------------------------------------------------------
 // Materials.
 
-std::string format_number(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
-}
-
 // `value` clamped to [lo, hi]; a warning when it had to change, `fallback` when it is not finite.
 float clamped(const Context& ctx, double value, float lo, float hi, float fallback, const std::string& what) {
   if (!std::isfinite(value)) {
@@ -838,7 +838,7 @@ std::optional<PunctualLight> node_light(const Context& ctx, const PlacedNode& pl
   auto index = number(member(*ext, "light"));
   if (!index) ctx.fail(where + ": KHR_lights_punctual has no light index");
   if (*index < 0 || *index >= double(ctx.model.lights.size()) || *index != std::floor(*index))
-    ctx.fail(where + ": KHR_lights_punctual light " + std::to_string(*index) + " does not exist (the file has " +
+    ctx.fail(where + ": KHR_lights_punctual light " + format_number(*index) + " does not exist (the file has " +
              std::to_string(ctx.model.lights.size()) + ")");
   const tinygltf::Light& gl = ctx.model.lights[size_t(*index)];
   const std::string at = where + " light " + std::to_string(size_t(*index)) + quoted_name(gl.name);

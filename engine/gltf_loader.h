@@ -12,6 +12,7 @@
 //   linear) is duplicated; the linear copy is appended after the glTF textures.
 // - A texture whose image is missing or cannot be decoded stays in Scene::textures as a 1x1 white
 //   placeholder (indices keep matching the glTF file) and every material slot naming it becomes -1.
+// - The camera is the first perspective one met depth-first; its up vector is the node's +Y axis.
 // - Out-of-range material factors are clamped with a warning; emissiveFactor above 1 is kept silently.
 // - Degenerate triangles (a repeated index or exactly zero area) are dropped and counted once per mesh.
 // - Skins, morph targets and animations are ignored (the static pose is loaded) with a warning.

@@ -20,6 +20,7 @@ struct Material {
   TextureRef base_color_tex;
   float metallic = 0.0f, roughness = 1.0f;
   TextureRef metallic_roughness_tex;  // G = roughness, B = metallic
+  float specular = 1.0f;              // KHR_materials_specular factor (0 = pure Lambert diffuse)
   TextureRef normal_tex;
   float normal_scale = 1.0f;
   vec3 emission{0.0f};                // emissiveFactor * KHR_materials_emissive_strength

@@ -76,6 +76,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t instance, uint32_t prim, ve
   sp.base_color = vec3(base);
   sp.metallic = m.metallic;
   sp.roughness = m.roughness;
+  sp.specular = m.specular;
   if (m.metallic_roughness_tex.valid()) {
     vec4 mr = lookup(scene, m.metallic_roughness_tex, uv0, uv1);
     sp.roughness *= mr.y;

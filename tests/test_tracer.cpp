@@ -1,0 +1,159 @@
+// Embree agrees with a brute-force intersector, packets agree with single rays, and spawned rays do not
+// hit the surface they leave, at scene scales from millimetres to kilometres.
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "engine/builtin_scenes.h"
+#include "engine/rng.h"
+#include "engine/surface.h"
+#include "engine/tracer.h"
+
+namespace candela {
+namespace {
+
+// Moller-Trumbore ray/triangle test in double precision (Moller & Trumbore 1997).
+bool intersect_triangle(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& p0, const glm::dvec3& p1,
+                        const glm::dvec3& p2, double& t) {
+  glm::dvec3 e1 = p1 - p0, e2 = p2 - p0, pv = glm::cross(d, e2);
+  double det = glm::dot(e1, pv);
+  if (std::abs(det) < 1e-300) return false;
+  glm::dvec3 tv = o - p0;
+  double u = glm::dot(tv, pv) / det;
+  if (u < 0.0 || u > 1.0) return false;
+  glm::dvec3 qv = glm::cross(tv, e1);
+  double v = glm::dot(d, qv) / det;
+  if (v < 0.0 || u + v > 1.0) return false;
+  t = glm::dot(e2, qv) / det;
+  return t > 0.0;
+}
+
+struct BruteHit {
+  double t = 1e300;
+  uint32_t instance = kNoHit, prim = kNoHit;
+};
+
+BruteHit brute_force(const Scene& scene, const Ray& ray) {
+  BruteHit best;
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
+    for (uint32_t p = 0; p < mesh.triangles.size(); ++p) {
+      WorldTriangle w = world_triangle(scene, i, p);
+      double t;
+      if (intersect_triangle(glm::dvec3(ray.origin), glm::dvec3(ray.direction), glm::dvec3(w.p0), glm::dvec3(w.p1),
+                             glm::dvec3(w.p2), t) && t < best.t)
+        best = {t, i, p};
+    }
+  }
+  return best;
+}
+
+// The Cornell box plus a second, rotated and scaled instance of one of its box meshes.
+Scene instanced_scene() {
+  Scene s = make_cornell_scene();
+  mat4 m = glm::scale(glm::rotate(glm::translate(mat4(1.0f), vec3(0.4f, 1.4f, 0.5f)), 0.7f, vec3(1, 1, 0)), vec3(0.3f));
+  s.instances.push_back(Instance{int(s.meshes.size() - 1), m, m});
+  return s;
+}
+
+TEST(Tracer, AgreesWithBruteForce) {
+  Scene scene = instanced_scene();
+  Tracer tracer(scene);
+  Rng rng(1, 2);
+  int hits = 0;
+  for (int k = 0; k < 3000; ++k) {
+    vec3 o(rng.next_float() * 1.8f - 0.9f, rng.next_float() * 1.9f + 0.05f, rng.next_float() * 1.8f - 0.9f);
+    vec3 d = glm::normalize(vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f));
+    Ray ray{o, d, 0.0f, kInfinity};
+    Hit h = tracer.intersect(ray);
+    BruteHit b = brute_force(scene, ray);
+    ASSERT_EQ(h.valid(), b.instance != kNoHit) << "ray " << k;
+    if (!h.valid()) continue;
+    ++hits;
+    EXPECT_NEAR(h.t, b.t, 1e-4 * std::max(1.0, b.t)) << "ray " << k;
+    vec3 ph = o + d * h.t;
+    WorldTriangle w = world_triangle(scene, h.instance, h.prim);
+    vec3 pb = w.p0 * (1.0f - h.barycentric.x - h.barycentric.y) + w.p1 * h.barycentric.x + w.p2 * h.barycentric.y;
+    EXPECT_LT(glm::length(ph - pb), 1e-4f) << "barycentrics disagree with t, ray " << k;
+    if (h.instance != b.instance || h.prim != b.prim) {
+      // Only a tie (the ray crosses a shared edge) may pick another triangle: it must be hit at the same t.
+      double t_other;
+      WorldTriangle o2 = world_triangle(scene, h.instance, h.prim);
+      ASSERT_TRUE(intersect_triangle(glm::dvec3(o), glm::dvec3(d), glm::dvec3(o2.p0), glm::dvec3(o2.p1), glm::dvec3(o2.p2), t_other) ||
+                  std::abs(h.t - b.t) < 1e-5)
+          << "ray " << k;
+    }
+    Ray shadow{o, d, 0.0f, float(b.t) * 0.999f};
+    EXPECT_FALSE(tracer.occluded(shadow)) << "ray " << k;
+    shadow.tmax = float(b.t) * 1.001f;
+    EXPECT_TRUE(tracer.occluded(shadow)) << "ray " << k;
+  }
+  EXPECT_GT(hits, 2400);  // the box is closed but for its front: most rays hit
+}
+
+TEST(Tracer, PacketsAgreeWithSingleRays) {
+  Scene scene = instanced_scene();
+  Tracer tracer(scene);
+  Rng rng(5, 6);
+  for (int batch = 0; batch < 200; ++batch) {
+    RayPacket16 packet, shadow;
+    Ray rays[16];
+    for (int lane = 0; lane < 16; ++lane) {
+      rays[lane] = Ray{vec3(0, 1, 3.5f), glm::normalize(vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, -1.0f)), 0.0f, kInfinity};
+      if (lane == 7) { packet.set_inactive(lane); continue; }
+      packet.set(lane, rays[lane]);
+    }
+    tracer.intersect16(packet, true);
+    for (int lane = 0; lane < 16; ++lane) {
+      Hit single = tracer.intersect(rays[lane]);
+      Hit packed = packet.hit(lane);
+      if (lane == 7) { EXPECT_FALSE(packed.valid()); continue; }
+      ASSERT_EQ(single.valid(), packed.valid());
+      EXPECT_EQ(single.instance, packed.instance);
+      EXPECT_EQ(single.prim, packed.prim);
+      EXPECT_FLOAT_EQ(single.t, packed.t);
+      Ray r = rays[lane];
+      r.tmax = single.t * (lane % 2 ? 0.99f : 1.01f);
+      shadow.set(lane, r);
+    }
+    shadow.set_inactive(7);
+    tracer.occluded16(shadow);
+    for (int lane = 0; lane < 16; ++lane)
+      if (lane != 7) {
+        EXPECT_EQ(Tracer::occluded_lane(shadow, lane), lane % 2 == 0 && tracer.intersect(rays[lane]).valid()) << "lane " << lane;
+      }
+  }
+}
+
+// Rays leaving a surface (both sides) never hit it again, whether the scene is 1 mm or 10 km across
+// and far from the origin: offsets are relative to the scene's scale and to |p|.
+TEST(Tracer, SpawnedRaysAvoidSelfIntersection) {
+  for (float scale : {1e-3f, 1.0f, 1e4f}) {
+    Scene scene = make_cornell_scene();
+    mat4 m = glm::scale(glm::translate(mat4(1.0f), vec3(3.0f * scale)), vec3(scale));
+    for (Instance& inst : scene.instances) inst.transform = inst.prev_transform = m;
+    Tracer tracer(scene);
+    Rng rng(7, uint64_t(scale * 1000));
+    int self_hits = 0, trials = 0;
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+      const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
+      for (uint32_t p = 0; p < mesh.triangles.size(); ++p) {
+        for (int k = 0; k < 20; ++k) {
+          vec2 b(rng.next_float(), rng.next_float());
+          if (b.x + b.y > 1.0f) b = vec2(1.0f) - b;
+          WorldTriangle w = world_triangle(scene, i, p);
+          vec3 pos = w.p0 * (1.0f - b.x - b.y) + w.p1 * b.x + w.p2 * b.y;
+          vec3 ng = glm::normalize(w.normal());
+          vec3 d = glm::normalize(vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f));
+          Hit h = tracer.intersect(tracer.spawn_ray(pos, ng, d));
+          ++trials;
+          if (h.valid() && h.instance == i && h.prim == p) ++self_hits;
+        }
+      }
+    }
+    EXPECT_EQ(self_hits, 0) << "scale " << scale << " over " << trials << " rays";
+  }
+}
+
+}  // namespace
+}  // namespace candela
