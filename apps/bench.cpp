@@ -2,6 +2,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -116,17 +119,25 @@ uint64_t shadow_rays(const BenchScene& s, bool packets) {
   return rays.count.load();
 }
 
-// Remembers every run so the summary can quote medians and ratios from this one process.
+// Remembers every repetition so the summary can quote medians and ratios from this one process.
 class CollectingReporter : public benchmark::ConsoleReporter {
  public:
-  std::map<std::string, double> median_rate;  // "kind/scene" -> rays per second (median aggregate)
+  explicit CollectingReporter(OutputOptions options) : ConsoleReporter(options) {}
+  std::map<std::string, std::vector<double>> rates;  // "kind/scene" -> rays per second of each repetition
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& run : runs) {
-      if (run.run_type != Run::RT_Aggregate || run.aggregate_name != "median") continue;
       auto it = run.counters.find("rays/s");
-      if (it != run.counters.end()) median_rate[run.run_name.function_name] = it->second.value;
+      if (run.run_type == Run::RT_Iteration && it != run.counters.end())
+        rates[run.run_name.function_name].push_back(it->second.value);
     }
     ConsoleReporter::ReportRuns(runs);
+  }
+  double median(const std::string& name) const {
+    auto it = rates.find(name);
+    if (it == rates.end() || it->second.empty()) return 0.0;
+    std::vector<double> v = it->second;
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
   }
 };
 
@@ -156,8 +167,7 @@ int run_bench(const BenchOptions& o) {
         uint64_t rays = 0;
         for (auto _ : state) rays += body();
         state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-      })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions)
-        ->ReportAggregatesOnly(true);
+      })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
     };
     add("raw_intersect16", [s] { return raw_primary_packets(*s); });
     add("gbuffer", [s] {
@@ -173,17 +183,15 @@ int run_bench(const BenchOptions& o) {
   char arg0[] = "candela";
   char* argv[] = {arg0, filter_flag.data(), nullptr};
   benchmark::Initialize(&argc, argv);
-  CollectingReporter reporter;
+  CollectingReporter reporter(isatty(fileno(stdout)) ? benchmark::ConsoleReporter::OO_Defaults
+                                                     : benchmark::ConsoleReporter::OO_Tabular);
   benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::Shutdown();
 
   std::printf("\nSummary at %dx%d (medians of %d repetitions, Mrays/s):\n", o.width, o.height, o.repetitions);
   std::printf("%-20s %12s %10s %12s %12s %12s\n", "scene", "raw_isect16", "gbuffer", "raw/gbuffer", "occluded16", "occluded1");
   for (const std::string& name : names) {
-    auto rate = [&](const std::string& kind) {
-      auto it = reporter.median_rate.find(kind + "/" + name);
-      return it == reporter.median_rate.end() ? 0.0 : it->second * 1e-6;
-    };
+    auto rate = [&](const std::string& kind) { return reporter.median(kind + "/" + name) * 1e-6; };
     double raw = rate("raw_intersect16"), gb = rate("gbuffer");
     std::printf("%-20s %12.2f %10.2f %12.2f %12.2f %12.2f\n", name.c_str(), raw, gb, gb > 0 ? raw / gb : 0.0,
                 rate("shadow_occluded16"), rate("shadow_occluded1"));

@@ -134,7 +134,7 @@ Scene make_manylights_scene(int light_count, uint64_t seed) {
 Scene make_city_scene(uint64_t seed) {
   SceneBuilder b;
   Rng rng(seed, 0x22);
-  const int blocks = 10;
+  const int blocks = 16;
   const float spacing = 14.0f, street = 5.0f, extent = blocks * spacing * 0.5f;
   int asphalt = b.material(vec3(0.08f), 0.7f), sidewalk = b.material(vec3(0.25f), 0.8f),
       facade = b.material(vec3(0.35f, 0.33f, 0.3f), 0.7f), dark_window = b.material(vec3(0.05f, 0.06f, 0.08f), 0.1f),
@@ -150,19 +150,19 @@ Scene make_city_scene(uint64_t seed) {
       vec3 c(-extent + (i + 0.5f) * spacing, 0.0f, -extent + (j + 0.5f) * spacing);
       float w = 0.5f * (spacing - street);
       b.box(sidewalk, c + vec3(0, 0.075f, 0), vec3(w, 0.075f, w), 0.0f, true);
-      float bw = w - 0.8f, bh = 12.0f + rng.next_float() * 28.0f;
+      float bw = w - 0.8f, bh = 12.0f + rng.next_float() * 40.0f;
       b.box(facade, c + vec3(0, bh * 0.5f + 0.15f, 0), vec3(bw, bh * 0.5f, bw), 0.0f, true);
-      // Windows on the four facades: 3 m floors, 2 m columns, 60% lit.
-      int floors = int(bh / 3.0f), cols = int(2.0f * bw / 2.0f);
+      // Windows on the four facades: 3 m floors, 1 m columns, 70% lit.
+      int floors = int(bh / 3.0f), cols = int(2.0f * bw);
       for (int side = 0; side < 4; ++side) {
         vec3 n = side == 0 ? vec3(1, 0, 0) : side == 1 ? vec3(-1, 0, 0) : side == 2 ? vec3(0, 0, 1) : vec3(0, 0, -1);
         vec3 along = vec3(n.z, 0, -n.x);
         for (int f = 0; f < floors; ++f) {
           for (int k = 0; k < cols; ++k) {
             vec3 wc = c + n * (bw + 0.02f) + along * (-bw + (k + 0.5f) * (2.0f * bw / cols)) + vec3(0, 0.15f + 1.6f + f * 3.0f, 0);
-            bool lit = rng.next_float() < 0.6f;
+            bool lit = rng.next_float() < 0.7f;
             int mat = lit ? window_lights[rng.next_u32() % window_lights.size()] : dark_window;
-            b.quad(mat, wc, along * 0.6f, vec3(0, 0.8f, 0), n);
+            b.quad(mat, wc, along * 0.3f, vec3(0, 0.8f, 0), n);
           }
         }
       }
@@ -225,7 +225,8 @@ Scene make_city_scene(uint64_t seed) {
   s.set_time(0.0f);  // twice, so that prev_transform also holds the t = 0 placement
   s.name = "city";
   s.environment = vec3(0.004f, 0.006f, 0.012f);
-  s.camera = CameraDesc{vec3(-extent + spacing * 2.0f, 18.0f, extent + 6.0f), vec3(0.0f, 4.0f, 0.0f), vec3(0, 1, 0), 50.0f};
+  // Looking down the central street (x = 0) from above its end.
+  s.camera = CameraDesc{vec3(2.0f, 30.0f, extent + 25.0f), vec3(0.0f, 2.0f, extent * 0.2f), vec3(0, 1, 0), 50.0f};
   return s;
 }
 

@@ -49,9 +49,9 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   g.prim[i] = hit.prim;
   vec3 prev_position = scene.instances[hit.instance].animated
                            ? transform_point(prev_from_current[hit.instance], sp.position) : sp.position;
-  vec2 prev_film, cur_film;
-  bool ok = prev_camera.project(prev_position, prev_film) && camera.project(sp.position, cur_film);
-  g.motion[i] = ok ? prev_film - cur_film : vec2(0.0f);
+  // The hit lies on the ray through `film`, so `film` is its projection in this frame.
+  vec2 prev_film;
+  g.motion[i] = prev_camera.project(prev_position, prev_film) ? prev_film - film : vec2(0.0f);
 }
 
 void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camera, const Camera& prev_camera,
@@ -89,7 +89,7 @@ void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camer
           if (!packet.valid[lane]) continue;
           int x = bx + (lane & 3), y = by + (lane >> 2);
           vec3 dir(packet.rayhit.ray.dir_x[lane], packet.rayhit.ray.dir_y[lane], packet.rayhit.ray.dir_z[lane]);
-          write_pixel(scene, prev_from_current, camera, prev_camera, packet.hit(lane), dir, film[lane], size_t(y) * w + x, out);
+          write_pixel(scene, prev_from_current, camera, prev_camera, tracer.packet_hit(packet, lane), dir, film[lane], size_t(y) * w + x, out);
         }
       }
     }

@@ -45,51 +45,90 @@ void RayPacket16::set(int lane, const Ray& ray) {
   valid[lane] = -1;
 }
 
-Hit RayPacket16::hit(int lane) const {
+Hit Tracer::packet_hit(const RayPacket16& packet, int lane) const {
   Hit h;
-  if (!valid[lane] || rayhit.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) return h;
-  h.t = rayhit.ray.tfar[lane];
-  h.instance = rayhit.hit.instID[0][lane];
-  h.prim = rayhit.hit.primID[lane];
-  h.barycentric = vec2(rayhit.hit.u[lane], rayhit.hit.v[lane]);
+  if (!packet.valid[lane] || packet.rayhit.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) return h;
+  h.t = packet.rayhit.ray.tfar[lane];
+  h.instance = scene_instance(packet.rayhit.hit.instID[0][lane], packet.rayhit.hit.geomID[lane]);
+  h.prim = packet.rayhit.hit.primID[lane];
+  h.barycentric = vec2(packet.rayhit.hit.u[lane], packet.rayhit.hit.v[lane]);
   return h;
 }
 
-// Builds one BVH per mesh (once) and the instance level over them.
+// A triangle geometry with the given vertices (copied into Embree's padded buffers) and indices.
+static RTCGeometry new_triangle_geometry(RTCDevice device, const Mesh& mesh, const mat4* transform) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<vec3*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(vec3),
+                                                       mesh.positions.size()));
+  for (size_t k = 0; k < mesh.positions.size(); ++k)
+    v[k] = transform ? transform_point(*transform, mesh.positions[k]) : mesh.positions[k];
+  auto* idx = static_cast<uvec3*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(uvec3),
+                                                          mesh.triangles.size()));
+  std::memcpy(idx, mesh.triangles.data(), mesh.triangles.size() * sizeof(uvec3));
+  rtcCommitGeometry(g);
+  return g;
+}
+
+// Adds an instance of `child` with `transform` to the top level; returns its geometry id there.
+static RTCGeometry attach_instance(RTCDevice device, RTCScene top, RTCScene child, const mat4& transform, uint32_t id) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(g, child);
+  rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transform[0][0]);
+  rtcCommitGeometry(g);
+  rtcAttachGeometryByID(top, g, id);
+  return g;
+}
+
+// Builds the static BVH over flattened instances, per-mesh BVHs for the rest, and the top level.
 Tracer::Tracer(const Scene& scene) {
   RTCDevice device = shared_device();
-  mesh_scenes_.reserve(scene.meshes.size());
-  for (const Mesh& mesh : scene.meshes) {
-    RTCScene s = rtcNewScene(device);
-    rtcSetSceneBuildQuality(s, RTC_BUILD_QUALITY_HIGH);
-    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Embree allocates these buffers itself, with the 16-byte padding its SIMD loads need.
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          sizeof(vec3), mesh.positions.size()));
-    std::memcpy(v, mesh.positions.data(), mesh.positions.size() * sizeof(vec3));
-    auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                               sizeof(uvec3), mesh.triangles.size()));
-    std::memcpy(idx, mesh.triangles.data(), mesh.triangles.size() * sizeof(uvec3));
-    rtcCommitGeometry(g);
-    rtcAttachGeometryByID(s, g, 0);
-    rtcReleaseGeometry(g);
-    rtcCommitScene(s);
-    mesh_scenes_.push_back(s);
+  std::vector<int> uses(scene.meshes.size(), 0);
+  for (const Instance& inst : scene.instances) {
+    CHECK(inst.mesh >= 0 && size_t(inst.mesh) < scene.meshes.size());
+    ++uses[inst.mesh];
   }
-  top_ = rtcNewScene(device);
-  bool any_animated = false;
-  for (size_t i = 0; i < scene.instances.size(); ++i) {
+  auto flattened = [&](const Instance& inst) { return !inst.animated && uses[inst.mesh] == 1; };
+
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
     const Instance& inst = scene.instances[i];
-    CHECK(inst.mesh >= 0 && size_t(inst.mesh) < mesh_scenes_.size());
-    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(g, mesh_scenes_[inst.mesh]);
-    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &inst.transform[0][0]);
-    rtcCommitGeometry(g);
-    rtcAttachGeometryByID(top_, g, unsigned(i));
-    instance_geoms_.push_back(g);
-    if (inst.animated) { animated_.push_back(uint32_t(i)); any_animated = true; }
+    if (!flattened(inst)) continue;
+    if (!static_scene_) {
+      static_scene_ = rtcNewScene(device);
+      rtcSetSceneBuildQuality(static_scene_, RTC_BUILD_QUALITY_HIGH);
+    }
+    RTCGeometry g = new_triangle_geometry(device, scene.meshes[inst.mesh], &inst.transform);
+    rtcAttachGeometryByID(static_scene_, g, uint32_t(static_instances_.size()));
+    rtcReleaseGeometry(g);
+    static_instances_.push_back(i);
   }
-  rtcSetSceneFlags(top_, any_animated ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_NONE);
+
+  mesh_scenes_.assign(scene.meshes.size(), nullptr);
+  top_ = rtcNewScene(device);
+  if (static_scene_) {
+    rtcCommitScene(static_scene_);
+    static_top_id_ = 0;
+    top_instances_.push_back(kNoHit);
+    rtcReleaseGeometry(attach_instance(device, top_, static_scene_, mat4(1.0f), static_top_id_));
+  }
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    if (flattened(inst)) continue;
+    RTCScene& ms = mesh_scenes_[inst.mesh];
+    if (!ms) {
+      ms = rtcNewScene(device);
+      rtcSetSceneBuildQuality(ms, RTC_BUILD_QUALITY_HIGH);
+      RTCGeometry g = new_triangle_geometry(device, scene.meshes[inst.mesh], nullptr);
+      rtcAttachGeometryByID(ms, g, 0);
+      rtcReleaseGeometry(g);
+      rtcCommitScene(ms);
+    }
+    uint32_t id = uint32_t(top_instances_.size());
+    top_instances_.push_back(i);
+    RTCGeometry g = attach_instance(device, top_, ms, inst.transform, id);
+    if (inst.animated) animated_.push_back({i, g});
+    else rtcReleaseGeometry(g);
+  }
+  rtcSetSceneFlags(top_, animated_.empty() ? RTC_SCENE_FLAG_NONE : RTC_SCENE_FLAG_DYNAMIC);
   rtcCommitScene(top_);
   Bounds3 b = scene.bounds();
   scene_radius_ = b.empty() ? 1.0f : std::max(0.5f * b.diagonal(), 1e-6f);
@@ -97,16 +136,18 @@ Tracer::Tracer(const Scene& scene) {
 }
 
 Tracer::~Tracer() {
-  for (RTCGeometry g : instance_geoms_) rtcReleaseGeometry(g);
-  if (top_) rtcReleaseScene(top_);
-  for (RTCScene s : mesh_scenes_) rtcReleaseScene(s);
+  for (auto& [instance, g] : animated_) rtcReleaseGeometry(g);
+  rtcReleaseScene(top_);
+  if (static_scene_) rtcReleaseScene(static_scene_);
+  for (RTCScene s : mesh_scenes_)
+    if (s) rtcReleaseScene(s);
 }
 
 void Tracer::update_instances(const Scene& scene) {
   if (animated_.empty()) return;
-  for (uint32_t i : animated_) {
-    rtcSetGeometryTransform(instance_geoms_[i], 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &scene.instances[i].transform[0][0]);
-    rtcCommitGeometry(instance_geoms_[i]);
+  for (auto& [instance, g] : animated_) {
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &scene.instances[instance].transform[0][0]);
+    rtcCommitGeometry(g);
   }
   rtcCommitScene(top_);
 }
@@ -125,7 +166,7 @@ Hit Tracer::intersect(const Ray& ray) const {
   Hit h;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
   h.t = rh.ray.tfar;
-  h.instance = rh.hit.instID[0];
+  h.instance = scene_instance(rh.hit.instID[0], rh.hit.geomID);
   h.prim = rh.hit.primID;
   h.barycentric = vec2(rh.hit.u, rh.hit.v);
   return h;

@@ -1,7 +1,11 @@
 #pragma once
-// The one class that talks to Embree: one process-wide device, per-mesh BVHs built once, a top-level
-// scene of instances re-committed each frame, closest-hit and occlusion queries for single rays and
-// 16-wide packets, and ray spawning with offsets relative to the scene's scale.
+// The one class that talks to Embree: one process-wide device, closest-hit and occlusion queries for
+// single rays and 16-wide packets, and ray spawning with offsets relative to the scene's scale.
+//
+// BVH layout (two levels): static instances whose mesh is used once are flattened into world space and
+// share one BVH (overlapping per-instance BVHs would make every ray visit each of them); meshes used by
+// several instances, and animated instances, get a per-mesh BVH built once. The top level holds the
+// static BVH as one instance plus the other instances, and is the only part re-committed per frame.
 #include <embree3/rtcore.h>
 
 #include <cstdint>
@@ -35,7 +39,6 @@ struct alignas(64) RayPacket16 {
   alignas(64) int valid[16];
   void set(int lane, const Ray& ray);
   void set_inactive(int lane) { valid[lane] = 0; }
-  Hit hit(int lane) const;
 };
 
 // Sets flush-to-zero and denormals-are-zero for the calling thread (Embree's advice for speed).
@@ -56,6 +59,8 @@ class Tracer {
   // Coherent rays (primary rays of a tile, shadow rays of a tile) in packets of 16.
   void intersect16(RayPacket16& packet, bool coherent) const;
   void occluded16(RayPacket16& packet) const;  // afterwards tfar < 0 in a lane means occluded
+  // The hit of one lane after intersect16, with the scene's instance index.
+  Hit packet_hit(const RayPacket16& packet, int lane) const;
   static bool occluded_lane(const RayPacket16& packet, int lane) { return packet.rayhit.ray.tfar[lane] < 0.0f; }
 
   // A ray leaving surface point p (geometric normal ng) in direction d, offset to avoid self-hits.
@@ -66,11 +71,18 @@ class Tracer {
 
  private:
   vec3 offset_point(const vec3& p, const vec3& ng, const vec3& towards) const;
+  // Scene instance index of a hit, from Embree's top-level and geometry ids.
+  uint32_t scene_instance(uint32_t top_id, uint32_t geom_id) const {
+    return top_id == static_top_id_ ? static_instances_[geom_id] : top_instances_[top_id];
+  }
 
   RTCScene top_ = nullptr;
-  std::vector<RTCScene> mesh_scenes_;
-  std::vector<RTCGeometry> instance_geoms_;
-  std::vector<uint32_t> animated_;  // indices of instances whose transform can change
+  RTCScene static_scene_ = nullptr;          // flattened static geometry (one BVH)
+  uint32_t static_top_id_ = RTC_INVALID_GEOMETRY_ID;
+  std::vector<uint32_t> static_instances_;   // static scene geometry id -> scene instance
+  std::vector<uint32_t> top_instances_;      // top-level geometry id -> scene instance
+  std::vector<RTCScene> mesh_scenes_;        // per mesh, built when some instance of it is not flattened
+  std::vector<std::pair<uint32_t, RTCGeometry>> animated_;  // (scene instance, its top-level geometry)
   float scene_radius_ = 1.0f;
   float epsilon_ = 1e-5f;
 };

@@ -106,7 +106,7 @@ TEST(Tracer, PacketsAgreeWithSingleRays) {
     tracer.intersect16(packet, true);
     for (int lane = 0; lane < 16; ++lane) {
       Hit single = tracer.intersect(rays[lane]);
-      Hit packed = packet.hit(lane);
+      Hit packed = tracer.packet_hit(packet, lane);
       if (lane == 7) { EXPECT_FALSE(packed.valid()); continue; }
       ASSERT_EQ(single.valid(), packed.valid());
       EXPECT_EQ(single.instance, packed.instance);
