@@ -12,10 +12,11 @@ namespace candela {
 namespace {
 
 // Renders `spp` paths per pixel of a w x h image and returns the per-pixel means.
+template <class Sampler = PowerLightSampler>
 Image render(const Scene& scene, int w, int h, int spp, int max_depth, uint64_t seed) {
   Tracer tracer(scene);
   LightList lights(scene);
-  PowerLightSampler sampler(lights);
+  Sampler sampler(lights);
   Camera camera(scene.default_camera(), w, h);
   SceneView view{scene, tracer, lights, camera};
   PathTracerParams params;
@@ -69,6 +70,46 @@ TEST(PathTracer, SameImageForAnyThreadCount) {
   EXPECT_EQ(0, std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(vec3)));
   Image other_seed = render(scene, 48, 32, 4, 8, 4);
   EXPECT_NE(0, std::memcmp(one.pixels.data(), other_seed.pixels.data(), one.pixels.size() * sizeof(vec3)));
+}
+
+// Mean of the red channel over pixels and its standard error (pixels as independent estimates).
+std::pair<double, double> mean_and_error(const Image& img) {
+  double m = 0.0, m2 = 0.0;
+  for (const vec3& p : img.pixels) { m += p.x; m2 += double(p.x) * p.x; }
+  m /= img.pixels.size();
+  m2 /= img.pixels.size();
+  return {m, std::sqrt(std::max(0.0, m2 - m * m) / img.pixels.size())};
+}
+
+// Uniform and power light selection are both unbiased: their direct-light images of the furnace-free
+// Cornell box agree within 4 combined standard errors (~1e-4 two-sided chance of a false failure).
+TEST(PathTracer, LightSamplersAgree) {
+  Scene scene = make_cornell_scene();
+  auto [mu, eu] = mean_and_error(render<UniformLightSampler>(scene, 32, 24, 64, 1, 5));
+  auto [mp, ep] = mean_and_error(render<PowerLightSampler>(scene, 32, 24, 64, 1, 6));
+  EXPECT_NEAR(mu, mp, 4.0 * std::hypot(eu, ep));
+}
+
+// A point light of intensity I at height h above a white Lambert floor: the floor right below it has
+// radiance (1 / pi) I / h^2. A 0.5 degree camera looks straight down at that point.
+TEST(PathTracer, PointLightOverLambertFloor) {
+  Scene scene;
+  Mesh floor;
+  floor.positions = {vec3(-5, 0, -5), vec3(5, 0, -5), vec3(5, 0, 5), vec3(-5, 0, 5)};
+  floor.triangles = {uvec3(0, 2, 1), uvec3(0, 3, 2)};
+  Material white;
+  white.specular = 0.0f;
+  scene.materials.push_back(white);
+  scene.meshes.push_back(floor);
+  scene.instances.push_back(Instance{0});
+  PunctualLight light;
+  light.position = vec3(0.0f, 2.0f, 0.0f);
+  light.intensity = vec3(3.0f);
+  scene.punctual_lights.push_back(light);
+  scene.camera = CameraDesc{vec3(0.0f, 4.0f, 0.0f), vec3(0.0f), vec3(0, 0, 1), 0.5f};
+  Image img = render(scene, 8, 8, 4, 1, 7);
+  double expected = 3.0 / (4.0 * kPi);
+  for (const vec3& p : img.pixels) EXPECT_NEAR(p.x, expected, 1e-3 * expected);
 }
 
 }  // namespace

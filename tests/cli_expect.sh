@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Runs a candela command line and checks how it ends.
+#   cli_expect.sh fail REGEX OUTPUT -- CMD...   must exit 1..127 (not a crash), print REGEX on stderr,
+#                                               and leave no OUTPUT file behind
+#   cli_expect.sh ok FILE... -- CMD...           must exit 0 and write every FILE (removed first)
+set -u
+mode=$1; shift
+args=()
+while [ "$1" != "--" ]; do args+=("$1"); shift; done
+shift
+if [ "$mode" = fail ]; then
+  regex=${args[0]}; output=${args[1]}
+  rm -f "$output"
+  err=$("$@" 2>&1 >/dev/null); rc=$?
+  [ $rc -ge 1 ] && [ $rc -lt 128 ] || { echo "expected exit 1..127, got $rc: $err"; exit 1; }
+  echo "$err" | grep -Eq -- "$regex" || { echo "stderr does not match '$regex': $err"; exit 1; }
+  [ ! -e "$output" ] || { echo "$output was written"; exit 1; }
+  ls "$(dirname "$output")"/.*.tmp* >/dev/null 2>&1 && { echo "temporary file left behind"; exit 1; }
+  exit 0
+fi
+for f in "${args[@]}"; do rm -f "$f"; done
+"$@" || { echo "command failed with $?"; exit 1; }
+for f in "${args[@]}"; do [ -s "$f" ] || { echo "$f missing"; exit 1; }; done

@@ -1,0 +1,135 @@
+// The light list: emission integrated over textured triangles, only real emitters kept, lights placed and
+// moved through instances, and light sampling densities that agree with their pdf.
+#include <gtest/gtest.h>
+
+#include "apps/scene_source.h"
+#include "engine/lights.h"
+#include "engine/rng.h"
+#include "engine/surface.h"
+#include "tests/test_util.h"
+
+namespace candela {
+namespace {
+
+// One triangle covering the lower-left half of UV space, its material emitting through `texture`.
+Scene textured_triangle_scene(Texture texture) {
+  Scene s;
+  Mesh m;
+  m.positions = {vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0)};
+  m.uv0 = {vec2(0, 0), vec2(1, 0), vec2(0, 1)};
+  m.triangles = {uvec3(0, 1, 2)};
+  Material mat;
+  mat.emission = vec3(2.0f);
+  mat.emissive_tex.texture = 0;
+  texture.srgb = false;
+  s.textures.push_back(std::move(texture));
+  s.materials.push_back(mat);
+  s.meshes.push_back(m);
+  s.instances.push_back(Instance{0});
+  return s;
+}
+
+Texture stripe_texture(int size, float white_from_u) {
+  Texture t;
+  t.width = t.height = size;
+  t.wrap_s = t.wrap_t = Wrap::Clamp;
+  t.rgba.resize(size_t(size) * size * 4);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      for (int c = 0; c < 4; ++c) t.rgba[(size_t(y) * size + x) * 4 + c] = (x + 0.5f) / size > white_from_u ? 255 : 0;
+  return t;
+}
+
+// The part of the triangle u + v <= 1 with u > 1/2 is a quarter of its area: average emission 2 * 1/4.
+TEST(Lights, TextureEmissionIsIntegratedOverTheTriangle) {
+  Scene s = textured_triangle_scene(stripe_texture(64, 0.5f));
+  vec3 avg = integrate_triangle_emission(s, s.meshes[0], 0);
+  EXPECT_NEAR(avg.x, 0.5f, 0.02f);
+  LightList lights(s);
+  ASSERT_EQ(lights.triangle_count(), 1u);
+  EXPECT_NEAR(lights.triangles()[0].power(), 0.5f * 0.5f * kPi, 0.02f);
+}
+
+// A triangle whose texture is black everywhere it covers is not a light, though its material is emissive.
+TEST(Lights, BlackTexturedTrianglesAreNotLights) {
+  Scene s = textured_triangle_scene(stripe_texture(64, 2.0f));
+  LightList lights(s);
+  EXPECT_EQ(lights.triangle_count(), 0u);
+  EXPECT_EQ(lights.light_index(0, 0), -1);
+}
+
+// Emitting-triangle counts of the shared scenes. ../shared/scenes/README.md counts a triangle when any of
+// four point samples exceeds 1e-3; the light list keeps a triangle when its average emission does, so the
+// counts may differ a little (the difference is reported) but must agree within 10%.
+TEST(Lights, SharedSceneEmitterCounts) {
+  std::string dir = testing::shared_scenes_dir();
+  if (dir.empty()) GTEST_SKIP() << "../shared/scenes not present";
+  struct Case { const char* file; size_t readme_count; };
+  for (Case c : {Case{"LightsPunctualLamp/glTF/LightsPunctualLamp.gltf", 358},
+                 Case{"StainedGlassLamp/glTF-JPG-PNG/StainedGlassLamp.gltf", 14602},
+                 Case{"DamagedHelmet/glTF/DamagedHelmet.gltf", 234},
+                 Case{"EmissiveStrengthTest/glTF/EmissiveStrengthTest.gltf", 60}}) {
+    Scene scene = load_scene(dir + "/" + c.file);
+    LightList lights(scene);
+    std::printf("%s: %zu emitting triangles (README: %zu)\n", c.file, lights.triangle_count(), c.readme_count);
+    EXPECT_NEAR(double(lights.triangle_count()), double(c.readme_count), 0.1 * c.readme_count) << c.file;
+  }
+}
+
+// Lights of animated instances follow them: after set_time + update, every light triangle of a car is
+// where the car's mesh triangle is.
+TEST(Lights, AnimatedLightsFollowTheirInstances) {
+  Scene scene = make_city_scene(7);
+  LightList lights(scene);
+  scene.set_time(1.5f);
+  lights.update(scene);
+  size_t moved = 0;
+  for (const TriangleLight& l : lights.triangles()) {
+    if (!scene.instances[l.instance].animated) continue;
+    WorldTriangle w = world_triangle(scene, l.instance, l.prim);
+    EXPECT_LT(glm::length(w.p0 - l.p0), 1e-3f);
+    EXPECT_LT(glm::length((w.p1 - w.p0) - l.e1), 1e-3f);
+    ++moved;
+  }
+  EXPECT_GT(moved, 0u);
+  size_t attached = 0;
+  for (size_t k = 0; k < scene.punctual_lights.size(); ++k) {
+    const PunctualLight& local = scene.punctual_lights[k];
+    if (local.instance < 0) continue;
+    vec3 expected = transform_point(scene.instances[local.instance].transform, local.position);
+    EXPECT_LT(glm::length(lights.punctual()[k].position - expected), 1e-3f);
+    ++attached;
+  }
+  EXPECT_GT(attached, 0u);
+}
+
+// For triangle lights the density sample() reports is the one pdf_solid_angle() computes for the same
+// point, and its Monte Carlo estimate of the solid angle of the triangle (E[1/pdf]) matches the exact
+// solid angle (Van Oosterom & Strackee 1983) within 4 standard errors.
+TEST(Lights, TriangleSamplingDensityIsConsistent) {
+  Scene s = make_cornell_scene();
+  LightList lights(s);
+  ASSERT_GT(lights.triangle_count(), 0u);
+  const TriangleLight& l = lights.triangles()[0];
+  vec3 p(0.1f, 0.5f, 0.2f);
+  Rng rng(3, 4);
+  const int n = 200000;
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    LightSample ls = lights.sample(s, 0, p, vec2(rng.next_float(), rng.next_float()));
+    ASSERT_GT(ls.pdf, 0.0f);
+    ASSERT_NEAR(ls.pdf, lights.pdf_solid_angle(0, p, ls.position), 1e-3f * ls.pdf);
+    sum += 1.0 / ls.pdf;
+    sum2 += 1.0 / (double(ls.pdf) * ls.pdf);
+  }
+  double mean = sum / n, err = std::sqrt((sum2 / n - mean * mean) / n);
+  glm::dvec3 a = glm::dvec3(l.p0) - glm::dvec3(p), b = glm::dvec3(l.p0 + l.e1) - glm::dvec3(p),
+             c = glm::dvec3(l.p0 + l.e2) - glm::dvec3(p);
+  double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+  double omega = 2.0 * std::abs(std::atan2(glm::dot(a, glm::cross(b, c)),
+                                           la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la));
+  EXPECT_NEAR(mean, omega, 4.0 * err + 1e-7);
+}
+
+}  // namespace
+}  // namespace candela
