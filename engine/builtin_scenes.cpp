@@ -111,7 +111,7 @@ Scene make_manylights_scene(int light_count, uint64_t seed) {
   Rng rng(seed, 0x11);
   std::vector<int> palette;
   for (int k = 0; k < 64; ++k) {
-    float power = std::pow(10.0f, rng.next_float() * 3.0f - 1.0f);
+    float power = std::pow(10.0f, rng.next_float() * 3.0f - 2.0f);
     palette.push_back(b.material(vec3(0.8f), 0.8f, hue_color(rng.next_float()) * power));
   }
   int grid = int(std::ceil(std::sqrt(float(light_count))));

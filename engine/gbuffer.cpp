@@ -20,7 +20,6 @@ void GBuffer::resize(int w, int h) {
   instance.assign(n, kNoHit);
   prim.assign(n, kNoHit);
   motion.assign(n, vec2(0.0f));
-  jitter.assign(n, vec2(0.5f));
 }
 
 // Writes pixel i from a primary hit: surface attributes and the motion vector, which follows the hit
@@ -79,7 +78,6 @@ void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camer
             Rng rng = Rng::for_key(params.seed, i, uint64_t(params.frame), 0x6b);
             j = vec2(rng.next_float(), rng.next_float());
           }
-          out.jitter[i] = j;
           film[lane] = vec2(x, y) + j;
           packet.set(lane, Ray{camera.position(), camera.direction(film[lane].x, film[lane].y), 0.0f, kInfinity});
           ++traced;

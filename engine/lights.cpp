@@ -151,7 +151,8 @@ LightSample LightList::sample(const Scene& scene, size_t index, const vec3& p, v
     float cos_l = std::abs(glm::dot(l.normal, s.wi));
     if (cos_l <= 1e-7f) return s;
     s.normal = l.normal;
-    s.radiance = emission_at(scene, l.instance, l.prim, bary, -s.wi);
+    bool facing = l.two_sided || glm::dot(l.normal, s.wi) < 0.0f;
+    s.radiance = facing ? emission_at(scene, l.instance, l.prim, bary) : vec3(0.0f);
     s.pdf = dist2 / (cos_l * l.area);
     return s;
   }

@@ -31,12 +31,11 @@ static mat3 normal_matrix(const mat4& m) {
   return mat3(glm::cross(a[1], a[2]), glm::cross(a[2], a[0]), glm::cross(a[0], a[1]));
 }
 
-vec3 emission_at(const Scene& scene, uint32_t instance, uint32_t prim, vec2 b, const vec3& w) {
-  const Instance& inst = scene.instances[instance];
-  const Mesh& mesh = scene.meshes[inst.mesh];
+vec3 emission_at(const Scene& scene, uint32_t instance, uint32_t prim, vec2 b) {
+  const Mesh& mesh = scene.meshes[scene.instances[instance].mesh];
   const Material& m = scene.materials[mesh.material];
   if (!m.emissive()) return vec3(0.0f);
-  if (!m.double_sided && glm::dot(world_triangle(scene, instance, prim).normal(), w) <= 0.0f) return vec3(0.0f);
+  if (!m.emissive_tex.valid()) return m.emission;
   const uvec3& tri = mesh.triangles[prim];
   vec2 uv0 = mesh.uv0.empty() ? vec2(0.0f) : interpolate(mesh.uv0, tri, b);
   vec2 uv1 = mesh.uv1.empty() ? uv0 : interpolate(mesh.uv1, tri, b);

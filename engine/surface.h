@@ -28,8 +28,8 @@ WorldTriangle world_triangle(const Scene& scene, uint32_t instance, uint32_t pri
 
 // Full shading data of the point at barycentric (u, v) on (instance, prim), seen from direction wo.
 SurfacePoint surface_at(const Scene& scene, uint32_t instance, uint32_t prim, vec2 barycentric, const vec3& wo);
-// Radiance emitted towards w by the point at barycentric (u, v) (zero from the back of one-sided emitters).
-vec3 emission_at(const Scene& scene, uint32_t instance, uint32_t prim, vec2 barycentric, const vec3& w);
+// Emission of the point at barycentric (u, v), whatever the direction (the caller checks sidedness).
+vec3 emission_at(const Scene& scene, uint32_t instance, uint32_t prim, vec2 barycentric);
 // Emissive colour of a material at a UV point (factor * strength * texture), ignoring orientation.
 vec3 material_emission(const Scene& scene, const Material& m, vec2 uv0, vec2 uv1);
 
