@@ -42,13 +42,16 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
     throw InputError(std::string(option) + " " + path + ": must end in " + list);
   }
   std::filesystem::path dir = p.parent_path();
-  if (!dir.empty() && !std::filesystem::is_directory(dir))
+  std::error_code ec;
+  if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
     throw InputError(std::string(option) + " " + path + ": directory " + dir.string() + " does not exist");
 }
 
 // Renders `frames` frames (scene time advances by 1/fps per frame), prints progress and per-frame
 // timings, writes the last frame's image and optionally the stats of every frame.
 int run_render(RenderOptions& o) {
+  if (int64_t(o.settings.width) * o.settings.height > (int64_t(1) << 26))
+    throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
   check_output_path(o.out, {".exr", ".png"}, "--out");
   if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
   o.settings.light_sampler = o.light_sampler == "uniform" ? LightSamplerKind::Uniform : LightSamplerKind::Power;
@@ -131,6 +134,12 @@ int main(int argc, char** argv) {
     if (render->parsed()) return run_render(r);
     return run_bench(b);
   } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory (try a smaller --width/--height or scene)\n");
+    return 1;
+  } catch (const std::exception& e) {  // e.g. std::filesystem errors on odd output paths
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
   }

@@ -29,7 +29,7 @@ void write_json_file(const std::string& path, const nlohmann::json& json) {
   std::error_code ec;
   std::filesystem::rename(tmp, target, ec);
   if (ec) {
-    std::filesystem::remove(tmp);
+    std::filesystem::remove(tmp, ec);
     throw InputError(path + ": cannot write: " + ec.message());
   }
 }

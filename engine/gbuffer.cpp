@@ -27,13 +27,15 @@ void GBuffer::resize(int w, int h) {
 static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_current, const Camera& camera,
                         const Camera& prev_camera, const Hit& hit, const vec3& dir, vec2 film, size_t i, GBuffer& g) {
   if (!hit.valid()) {
-    g.instance[i] = kNoHit;
+    g.position[i] = g.shading_normal[i] = g.geometric_normal[i] = g.albedo[i] = vec3(0.0f);
+    g.roughness_metallic[i] = vec2(0.0f);
+    g.instance[i] = g.prim[i] = kNoHit;
     g.depth[i] = kInfinity;
     g.emission[i] = scene.environment;
     g.motion[i] = vec2(0.0f);
     vec2 prev_film;
-    // The background moves with the camera's rotation only.
-    if (prev_camera.project(camera.position() + dir, prev_film)) g.motion[i] = prev_film - film;
+    // The background is infinitely far: it moves with the camera's rotation only.
+    if (prev_camera.project(prev_camera.position() + dir, prev_film)) g.motion[i] = prev_film - film;
     return;
   }
   SurfacePoint sp = surface_at(scene, hit.instance, hit.prim, hit.barycentric, -dir);

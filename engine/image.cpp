@@ -53,15 +53,15 @@ void write_image(const std::string& path, const Image& image, float exposure) {
   }
   auto out = OIIO::ImageOutput::create(tmp.string());
   bool ok = out && out->open(tmp.string(), spec) && out->write_image(spec.format, data) && out->close();
+  std::error_code ec;
   if (!ok) {
     std::string why = out ? out->geterror() : OIIO::geterror();
-    std::filesystem::remove(tmp);
+    std::filesystem::remove(tmp, ec);
     throw InputError(path + ": cannot write image: " + why);
   }
-  std::error_code ec;
   std::filesystem::rename(tmp, target, ec);
   if (ec) {
-    std::filesystem::remove(tmp);
+    std::filesystem::remove(tmp, ec);
     throw InputError(path + ": cannot write image: " + ec.message());
   }
 }

@@ -1,6 +1,8 @@
 #pragma once
 // The contract between estimators and light-selection policies (which live in samplers/): given a shading
-// point, pick a light index with a probability, and report that probability for any index. Estimators
+// point and two independent uniforms, pick a light index with a probability, and report that probability
+// for any index. Two uniforms, because one float has 24 bits: splitting it between choosing among 1e5
+// lights and a second decision (alias or bin, left or right child) leaves too few bits for the second. Estimators
 // take the policy as a template parameter constrained by this concept, so engine/ stays policy-free.
 #include <concepts>
 #include <cstdint>
@@ -20,7 +22,7 @@ struct SampledLight {
 };
 
 template <class S>
-concept LightSampler = requires(const S& s, const ShadingContext& ctx, float u, uint32_t index) {
+concept LightSampler = requires(const S& s, const ShadingContext& ctx, vec2 u, uint32_t index) {
   { s.sample(ctx, u) } -> std::same_as<SampledLight>;
   { s.pmf(ctx, index) } -> std::convertible_to<float>;
 };

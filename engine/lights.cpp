@@ -55,7 +55,7 @@ static MeshEmission analyse_mesh(const Scene& scene, const Mesh& mesh) {
   return me;
 }
 
-LightList::LightList(const Scene& scene) : environment_(scene.environment) {
+LightList::LightList(const Scene& scene) : environment_(scene.environment), scene_radius_(0.5f * scene.bounds().diagonal()) {
   mesh_emission_.reserve(scene.meshes.size());
   for (const Mesh& mesh : scene.meshes) mesh_emission_.push_back(analyse_mesh(scene, mesh));
   instance_first_light_.assign(scene.instances.size(), -1);
@@ -81,7 +81,7 @@ void LightList::place_instance(const Scene& scene, uint32_t instance) {
     l.p0 = t.p0;
     l.e1 = t.p1 - t.p0;
     l.e2 = t.p2 - t.p0;
-    vec3 n = glm::cross(l.e1, l.e2);
+    vec3 n = t.normal();
     float len = glm::length(n);
     l.area = 0.5f * len;
     l.normal = len > 0.0f ? n / len : vec3(0.0f, 0.0f, 1.0f);
@@ -115,8 +115,8 @@ float LightList::power(size_t index) const {
   switch (l.type) {
     case PunctualType::Point: return 4.0f * kPi * I;
     case PunctualType::Spot: return 2.0f * kPi * (1.0f - std::cos(0.5f * (l.inner_cone + l.outer_cone))) * I;
-    // A directional light's power depends on the scene's extent; callers weight it separately.
-    case PunctualType::Directional: default: return I;
+    // Irradiance times the area of the scene's bounding disk (pbrt-v4 does the same).
+    case PunctualType::Directional: default: return kPi * scene_radius_ * scene_radius_ * I;
   }
 }
 
@@ -181,6 +181,7 @@ float LightList::pdf_solid_angle(size_t index, const vec3& p, const vec3& y) con
   const TriangleLight& l = triangles_[index];
   vec3 d = y - p;
   float dist2 = glm::dot(d, d);
+  if (dist2 <= 0.0f) return 0.0f;
   float cos_l = std::abs(glm::dot(l.normal, d)) / std::sqrt(dist2);
   if (cos_l <= 1e-7f || l.area <= 0.0f) return 0.0f;
   return dist2 / (cos_l * l.area);

@@ -72,6 +72,7 @@ class LightList {
   std::vector<TriangleLight> triangles_;
   std::vector<PunctualLight> punctual_;
   vec3 environment_{0.0f};
+  float scene_radius_ = 0.0f;
 };
 
 // Averages a material's emission over a mesh triangle by stratified sampling of its UV footprint.

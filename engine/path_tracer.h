@@ -41,7 +41,7 @@ template <LightSampler S>
 vec3 estimate_direct_light(const SceneView& view, const S& sampler, const SurfacePoint& sp, const Bsdf& bsdf,
                            const vec3& wo, Rng& rng, uint64_t& rays) {
   ShadingContext ctx{sp.position, sp.shading_normal};
-  SampledLight chosen = sampler.sample(ctx, rng.next_float());
+  SampledLight chosen = sampler.sample(ctx, vec2(rng.next_float(), rng.next_float()));
   vec2 u(rng.next_float(), rng.next_float());
   if (chosen.pmf <= 0.0f) return vec3(0.0f);
   LightSample ls = view.lights.sample(view.scene, chosen.index, sp.position, u);

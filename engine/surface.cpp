@@ -7,7 +7,7 @@ WorldTriangle world_triangle(const Scene& scene, uint32_t instance, uint32_t pri
   const Mesh& mesh = scene.meshes[inst.mesh];
   const uvec3& tri = mesh.triangles[prim];
   return {transform_point(inst.transform, mesh.positions[tri.x]), transform_point(inst.transform, mesh.positions[tri.y]),
-          transform_point(inst.transform, mesh.positions[tri.z])};
+          transform_point(inst.transform, mesh.positions[tri.z]), glm::determinant(mat3(inst.transform)) < 0.0f};
 }
 
 template <class T>
@@ -61,9 +61,9 @@ SurfacePoint surface_at(const Scene& scene, uint32_t instance, uint32_t prim, ve
   sp.instance = instance;
   sp.prim = prim;
   sp.position = t.p0 * (1.0f - b.x - b.y) + t.p1 * b.x + t.p2 * b.y;
-  vec3 ng = glm::normalize(t.normal());
-  sp.front_face = glm::dot(ng, wo) >= 0.0f;
-  if (!sp.front_face) ng = -ng;
+  vec3 n_front = glm::normalize(t.normal());
+  sp.front_face = glm::dot(n_front, wo) >= 0.0f;
+  vec3 ng = sp.front_face ? n_front : -n_front;
   sp.geometric_normal = ng;
 
   vec2 uv0 = mesh.uv0.empty() ? vec2(0.0f) : interpolate(mesh.uv0, tri, b);
@@ -83,11 +83,12 @@ SurfacePoint surface_at(const Scene& scene, uint32_t instance, uint32_t prim, ve
   }
   if (m.emissive() && (sp.front_face || m.double_sided)) sp.emission = material_emission(scene, m, uv0, uv1);
 
-  // Shading normal: interpolated vertex normal, then the normal map in the tangent frame.
+  // Shading normal on the front side: interpolated vertex normal, then the normal map in the tangent
+  // frame; turned to the viewer's side afterwards, so that back faces see the same bumps mirrored.
   mat3 nm = normal_matrix(inst.transform);
-  vec3 ns = mesh.normals.empty() ? ng : glm::normalize(nm * interpolate(mesh.normals, tri, b));
-  if (!is_finite(ns)) ns = ng;
-  if (glm::dot(ns, ng) < 0.0f) ns = -ns;
+  vec3 ns = mesh.normals.empty() ? n_front : glm::normalize(nm * interpolate(mesh.normals, tri, b));
+  if (!is_finite(ns)) ns = n_front;
+  if (glm::dot(ns, n_front) < 0.0f) ns = -ns;
   if (m.normal_tex.valid()) {
     const std::vector<vec2>& uv = m.normal_tex.texcoord == 1 && !mesh.uv1.empty() ? mesh.uv1 : mesh.uv0;
     vec3 tangent(0.0f);
@@ -110,6 +111,7 @@ SurfacePoint surface_at(const Scene& scene, uint32_t instance, uint32_t prim, ve
       if (glm::dot(mapped, mapped) > 1e-12f) ns = glm::normalize(mapped);
     }
   }
+  if (!sp.front_face) ns = -ns;
   // A shading normal facing away from the viewer would give a BSDF with no valid wo: fall back.
   if (glm::dot(ns, wo) <= 1e-4f) ns = ng;
   sp.shading_normal = ns;

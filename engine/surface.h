@@ -22,7 +22,9 @@ struct SurfacePoint {
 // World-space corners of a triangle of an instance.
 struct WorldTriangle {
   vec3 p0, p1, p2;
-  vec3 normal() const { return glm::cross(p1 - p0, p2 - p0); }  // unnormalised, by winding
+  bool mirrored = false;  // the instance transform flips handedness, which flips the front side (glTF 3.7.4)
+  // Unnormalised normal of the front side (counter-clockwise winding in object space).
+  vec3 normal() const { vec3 n = glm::cross(p1 - p0, p2 - p0); return mirrored ? -n : n; }
 };
 WorldTriangle world_triangle(const Scene& scene, uint32_t instance, uint32_t prim);
 

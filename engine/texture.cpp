@@ -42,7 +42,8 @@ vec4 Texture::texel(int x, int y) const {
 vec4 Texture::sample(vec2 uv) const {
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = vec2(0.0f);
   // Keep coordinates in a range where the texel index fits an int.
-  uv = glm::clamp(uv, vec2(-65536.0f), vec2(65536.0f));
+  float limit = float(1 << 30) / float(std::max(width, height));
+  uv = glm::clamp(uv, vec2(-limit), vec2(limit));
   float x = uv.x * width - 0.5f, y = uv.y * height - 0.5f;
   float fx = std::floor(x), fy = std::floor(y);
   int x0 = int(fx), y0 = int(fy);

@@ -4,9 +4,21 @@
 
 namespace candela {
 
+static constexpr size_t kMaxLights = size_t(1) << 24;
+
+static void check_light_count(size_t n) {
+  if (n > kMaxLights)
+    throw InputError("the scene has " + std::to_string(n) + " lights; uniform and power light selection support at most 16777216");
+}
+
+UniformLightSampler::UniformLightSampler(const LightList& lights) : count_(uint32_t(lights.size())) {
+  check_light_count(lights.size());
+}
+
 // Vose's construction: split bins into under- and over-full, pair each under-full bin with an over-full alias.
 PowerLightSampler::PowerLightSampler(const LightList& lights) {
   size_t n = lights.size();
+  check_light_count(n);
   if (n == 0) return;
   std::vector<double> w(n);
   double total = 0.0;
@@ -32,12 +44,11 @@ PowerLightSampler::PowerLightSampler(const LightList& lights) {
   for (uint32_t i : small) bins_[i] = {1.0f, i};  // round-off leftovers
 }
 
-SampledLight PowerLightSampler::sample(const ShadingContext&, float u) const {
+// u.x picks the bin, u.y decides between the bin and its alias.
+SampledLight PowerLightSampler::sample(const ShadingContext&, vec2 u) const {
   if (bins_.empty()) return {};
-  float x = u * float(bins_.size());
-  uint32_t bin = std::min(uint32_t(x), uint32_t(bins_.size() - 1));
-  float frac = x - float(bin);
-  uint32_t index = frac < bins_[bin].threshold ? bin : bins_[bin].alias;
+  uint32_t bin = std::min(uint32_t(double(u.x) * bins_.size()), uint32_t(bins_.size() - 1));
+  uint32_t index = u.y < bins_[bin].threshold ? bin : bins_[bin].alias;
   return {index, pmf_[index]};
 }
 

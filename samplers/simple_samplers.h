@@ -1,6 +1,7 @@
 #pragma once
 // Context-free light selection: uniform over lights, and proportional to power with Walker's alias
 // method (Walker 1977; Vose 1991 for the numerically stable construction), O(1) per sample.
+// Both pick among at most 2^24 lights (u.x has 24 random bits); the constructors refuse more.
 #include <vector>
 
 #include "engine/light_sampler.h"
@@ -10,10 +11,10 @@ namespace candela {
 
 class UniformLightSampler {
  public:
-  explicit UniformLightSampler(const LightList& lights) : count_(uint32_t(lights.size())) {}
-  SampledLight sample(const ShadingContext&, float u) const {
+  explicit UniformLightSampler(const LightList& lights);
+  SampledLight sample(const ShadingContext&, vec2 u) const {
     if (count_ == 0) return {};
-    return {std::min(uint32_t(u * float(count_)), count_ - 1), 1.0f / float(count_)};
+    return {std::min(uint32_t(double(u.x) * count_), count_ - 1), 1.0f / float(count_)};
   }
   float pmf(const ShadingContext&, uint32_t) const { return count_ ? 1.0f / float(count_) : 0.0f; }
 
@@ -24,7 +25,7 @@ class UniformLightSampler {
 class PowerLightSampler {
  public:
   explicit PowerLightSampler(const LightList& lights);
-  SampledLight sample(const ShadingContext&, float u) const;
+  SampledLight sample(const ShadingContext&, vec2 u) const;
   float pmf(const ShadingContext&, uint32_t index) const { return pmf_.empty() ? 0.0f : pmf_[index]; }
 
  private:

@@ -2,6 +2,8 @@
 // moved through instances, and light sampling densities that agree with their pdf.
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "apps/scene_source.h"
 #include "engine/lights.h"
 #include "engine/rng.h"
@@ -129,6 +131,30 @@ TEST(Lights, TriangleSamplingDensityIsConsistent) {
   double omega = 2.0 * std::abs(std::atan2(glm::dot(a, glm::cross(b, c)),
                                            la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la));
   EXPECT_NEAR(mean, omega, 4.0 * err + 1e-7);
+}
+
+// glTF 3.7.4: a transform with negative determinant flips the front side. A triangle wound
+// counter-clockwise around +z under scale (-1, 1, 1) still faces +z: its light and its surface agree.
+TEST(Lights, MirroredInstancesKeepTheirFrontSide) {
+  Scene s;
+  Mesh m;
+  m.positions = {vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0)};
+  m.triangles = {uvec3(0, 1, 2)};
+  Material mat;
+  mat.emission = vec3(1.0f);
+  s.materials.push_back(mat);
+  s.meshes.push_back(m);
+  mat4 mirror = glm::scale(mat4(1.0f), vec3(-1.0f, 1.0f, 1.0f));
+  s.instances.push_back(Instance{0, mirror, mirror});
+  LightList lights(s);
+  ASSERT_EQ(lights.triangle_count(), 1u);
+  EXPECT_GT(lights.triangles()[0].normal.z, 0.99f);
+  SurfacePoint front = surface_at(s, 0, 0, vec2(0.2f), vec3(0, 0, 1));
+  EXPECT_TRUE(front.front_face);
+  EXPECT_EQ(front.emission, vec3(1.0f));
+  SurfacePoint back = surface_at(s, 0, 0, vec2(0.2f), vec3(0, 0, -1));
+  EXPECT_FALSE(back.front_face);
+  EXPECT_EQ(back.emission, vec3(0.0f));
 }
 
 }  // namespace
