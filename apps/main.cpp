@@ -26,6 +26,7 @@ struct RenderOptions {
   float exposure = 1.0f;
   int threads = 0;
   int lights = 1024;
+  float environment = -1.0f;  // < 0: the scene's own (built-in scenes), 0.3 for glTF files
   bool quiet = false;
   std::string method = "pt";
   std::string light_sampler = "power";
@@ -59,6 +60,9 @@ int run_render(RenderOptions& o) {
   builtin.light_count = o.lights;
   auto t0 = std::chrono::steady_clock::now();
   Scene scene = load_scene(o.scene, builtin);
+  bool builtin_scene = o.scene.rfind("builtin:", 0) == 0;
+  if (o.environment >= 0.0f) scene.environment = vec3(o.environment);
+  else if (!builtin_scene) scene.environment = vec3(0.3f);
   size_t triangles = scene.triangle_count();
   Renderer renderer(std::move(scene), o.settings);
   double setup_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -116,6 +120,9 @@ int main(int argc, char** argv) {
   render->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024))->capture_default_str();
   render->add_option("--lights", r.lights, "builtin:manylights: number of ceiling lights")
       ->check(CLI::Range(1, 4000000))->capture_default_str();
+  render->add_option("--environment", r.environment,
+                     "Uniform background radiance (grey); default: the built-in scene's own, 0.3 for glTF files")
+      ->check(CLI::Range(0.0f, 1e6f));
   render->add_flag("--quiet,-q", r.quiet, "No progress output");
 
   BenchOptions b;

@@ -55,8 +55,36 @@ Hit Tracer::packet_hit(const RayPacket16& packet, int lane) const {
   return h;
 }
 
-// A triangle geometry with the given vertices (copied into Embree's padded buffers) and indices.
-static RTCGeometry new_triangle_geometry(RTCDevice device, const Mesh& mesh, const mat4* transform) {
+// What the alpha filter needs of a masked mesh: its UVs, triangles and the material's alpha inputs.
+struct AlphaMask {
+  const Mesh* mesh;
+  const Material* material;
+  const Texture* texture;  // null: alpha is the base colour factor's alone
+};
+
+// Embree filter (intersection and occlusion): rejects hits where base colour alpha < alpha cutoff.
+static void alpha_mask_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* mask = static_cast<const AlphaMask*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    float alpha = mask->material->base_color.a;
+    if (mask->texture && !mask->mesh->uv0.empty()) {
+      const uvec3& tri = mask->mesh->triangles[RTCHitN_primID(args->hit, args->N, i)];
+      float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+      const std::vector<vec2>& uv = mask->material->base_color_tex.texcoord == 1 && !mask->mesh->uv1.empty()
+                                        ? mask->mesh->uv1 : mask->mesh->uv0;
+      vec2 st = uv[tri.x] * (1.0f - u - v) + uv[tri.y] * u + uv[tri.z] * v;
+      alpha *= mask->texture->sample(mask->material->base_color_tex.apply(st)).a;
+    }
+    if (alpha < mask->material->alpha_cutoff) args->valid[i] = 0;
+  }
+}
+
+// A triangle geometry of one mesh (vertices copied into Embree's padded buffers, optionally moved to
+// world space), with the alpha filter attached when its material is masked.
+RTCGeometry Tracer::new_triangle_geometry(const Scene& scene, int mesh_index, const mat4* transform) {
+  const Mesh& mesh = scene.meshes[mesh_index];
+  RTCDevice device = shared_device();
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<vec3*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(vec3),
                                                        mesh.positions.size()));
@@ -65,6 +93,14 @@ static RTCGeometry new_triangle_geometry(RTCDevice device, const Mesh& mesh, con
   auto* idx = static_cast<uvec3*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(uvec3),
                                                           mesh.triangles.size()));
   std::memcpy(idx, mesh.triangles.data(), mesh.triangles.size() * sizeof(uvec3));
+  const Material& material = scene.materials[mesh.material];
+  if (material.alpha_mode == AlphaMode::Mask) {
+    const Texture* tex = material.base_color_tex.valid() ? &scene.textures[material.base_color_tex.texture] : nullptr;
+    alpha_masks_.push_back(std::make_unique<AlphaMask>(AlphaMask{&mesh, &material, tex}));
+    rtcSetGeometryUserData(g, alpha_masks_.back().get());
+    rtcSetGeometryIntersectFilterFunction(g, alpha_mask_filter);
+    rtcSetGeometryOccludedFilterFunction(g, alpha_mask_filter);
+  }
   rtcCommitGeometry(g);
   return g;
 }
@@ -96,7 +132,7 @@ Tracer::Tracer(const Scene& scene) {
       static_scene_ = rtcNewScene(device);
       rtcSetSceneBuildQuality(static_scene_, RTC_BUILD_QUALITY_HIGH);
     }
-    RTCGeometry g = new_triangle_geometry(device, scene.meshes[inst.mesh], &inst.transform);
+    RTCGeometry g = new_triangle_geometry(scene, inst.mesh, &inst.transform);
     rtcAttachGeometryByID(static_scene_, g, uint32_t(static_instances_.size()));
     rtcReleaseGeometry(g);
     static_instances_.push_back(i);
@@ -117,7 +153,7 @@ Tracer::Tracer(const Scene& scene) {
     if (!ms) {
       ms = rtcNewScene(device);
       rtcSetSceneBuildQuality(ms, RTC_BUILD_QUALITY_HIGH);
-      RTCGeometry g = new_triangle_geometry(device, scene.meshes[inst.mesh], nullptr);
+      RTCGeometry g = new_triangle_geometry(scene, inst.mesh, nullptr);
       rtcAttachGeometryByID(ms, g, 0);
       rtcReleaseGeometry(g);
       rtcCommitScene(ms);

@@ -6,9 +6,13 @@
 // share one BVH (overlapping per-instance BVHs would make every ray visit each of them); meshes used by
 // several instances, and animated instances, get a per-mesh BVH built once. The top level holds the
 // static BVH as one instance plus the other instances, and is the only part re-committed per frame.
+// Alpha-masked materials (glTF alphaMode MASK) reject hits below their cutoff in an Embree filter
+// function; BLEND is traced as opaque. The Tracer reads the Scene's meshes for that: the Scene must
+// outlive it.
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "engine/math.h"
@@ -71,6 +75,7 @@ class Tracer {
 
  private:
   vec3 offset_point(const vec3& p, const vec3& ng, const vec3& towards) const;
+  RTCGeometry new_triangle_geometry(const Scene& scene, int mesh, const mat4* transform);
   // Scene instance index of a hit, from Embree's top-level and geometry ids.
   uint32_t scene_instance(uint32_t top_id, uint32_t geom_id) const {
     return top_id == static_top_id_ ? static_instances_[geom_id] : top_instances_[top_id];
@@ -83,6 +88,7 @@ class Tracer {
   std::vector<uint32_t> top_instances_;      // top-level geometry id -> scene instance
   std::vector<RTCScene> mesh_scenes_;        // per mesh, built when some instance of it is not flattened
   std::vector<std::pair<uint32_t, RTCGeometry>> animated_;  // (scene instance, its top-level geometry)
+  std::vector<std::unique_ptr<struct AlphaMask>> alpha_masks_;      // per masked mesh, read by the filter
   float scene_radius_ = 1.0f;
   float epsilon_ = 1e-5f;
 };

@@ -155,5 +155,40 @@ TEST(Tracer, SpawnedRaysAvoidSelfIntersection) {
   }
 }
 
+// glTF alphaMode MASK: where base colour alpha is below the cutoff, rays (and shadow rays) pass through.
+// A masked quad at z = 0 whose texture is transparent for u < 1/2 hides an opaque quad at z = -1.
+TEST(Tracer, AlphaMaskLetsRaysThrough) {
+  Scene scene;
+  Texture tex;
+  tex.width = 2;
+  tex.height = 1;
+  tex.wrap_s = tex.wrap_t = Wrap::Clamp;
+  tex.rgba = {255, 255, 255, 0, 255, 255, 255, 255};
+  scene.textures.push_back(tex);
+  Material masked, opaque;
+  masked.alpha_mode = AlphaMode::Mask;
+  masked.base_color_tex.texture = 0;
+  scene.materials = {masked, opaque};
+  for (int k = 0; k < 2; ++k) {
+    Mesh quad;
+    float z = -float(k);
+    quad.positions = {vec3(-1, -1, z), vec3(1, -1, z), vec3(1, 1, z), vec3(-1, 1, z)};
+    quad.uv0 = {vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 1)};
+    quad.triangles = {uvec3(0, 1, 2), uvec3(0, 2, 3)};
+    quad.material = k;
+    scene.meshes.push_back(quad);
+    scene.instances.push_back(Instance{k});
+  }
+  Tracer tracer(scene);
+  for (float x : {-0.8f, -0.3f, 0.3f, 0.8f}) {
+    Ray ray{vec3(x, 0.1f, 1.0f), vec3(0, 0, -1), 0.0f, kInfinity};
+    Hit h = tracer.intersect(ray);
+    ASSERT_TRUE(h.valid());
+    EXPECT_EQ(h.instance, x < 0.0f ? 1u : 0u) << "x " << x;
+    ray.tmax = 1.5f;  // stops between the quads: occluded only where the mask is opaque
+    EXPECT_EQ(tracer.occluded(ray), x > 0.0f) << "x " << x;
+  }
+}
+
 }  // namespace
 }  // namespace candela
