@@ -65,34 +65,42 @@ void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camer
     if (scene.instances[k].animated)
       prev_from_current[k] = scene.instances[k].prev_transform * glm::inverse(scene.instances[k].transform);
   for_each_tile(out.width, out.height, [&](const Tile& tile) {
+    // Trace every packet of the tile first, then shade: alternating Embree's traversal code with
+    // shading code every 16 rays costs instruction-cache misses.
+    constexpr int kMaxPixels = kTileWidth * kTileHeight;
+    Hit hits[kMaxPixels];
+    vec3 dirs[kMaxPixels];
+    vec2 film[kMaxPixels];
+    uint32_t pixel[kMaxPixels];
+    int count = 0;
     RayPacket16 packet;
-    vec2 film[16];
-    uint64_t traced = 0;
     for (int by = tile.y0; by < tile.y1; by += 4) {
       for (int bx = tile.x0; bx < tile.x1; bx += 4) {
-        // Fill one 4x4 packet; lanes outside the image stay inactive.
+        // One 4x4 packet; lanes outside the image stay inactive.
+        int first = count;
         for (int lane = 0; lane < 16; ++lane) {
           int x = bx + (lane & 3), y = by + (lane >> 2);
           if (x >= tile.x1 || y >= tile.y1) { packet.set_inactive(lane); continue; }
-          size_t i = size_t(y) * w + x;
+          uint32_t i = uint32_t(y) * uint32_t(w) + uint32_t(x);
           vec2 j(0.5f);
           if (params.jitter) {
             Rng rng = Rng::for_key(params.seed, i, uint64_t(params.frame), 0x6b);
             j = vec2(rng.next_float(), rng.next_float());
           }
-          film[lane] = vec2(x, y) + j;
-          packet.set(lane, Ray{camera.position(), camera.direction(film[lane].x, film[lane].y), 0.0f, kInfinity});
-          ++traced;
+          film[count] = vec2(x, y) + j;
+          dirs[count] = camera.direction(film[count].x, film[count].y);
+          pixel[count] = i;
+          packet.set(lane, Ray{camera.position(), dirs[count], 0.0f, kInfinity});
+          ++count;
         }
         tracer.intersect16(packet, true);
-        for (int lane = 0; lane < 16; ++lane) {
-          if (!packet.valid[lane]) continue;
-          int x = bx + (lane & 3), y = by + (lane >> 2);
-          vec3 dir(packet.rayhit.ray.dir_x[lane], packet.rayhit.ray.dir_y[lane], packet.rayhit.ray.dir_z[lane]);
-          write_pixel(scene, prev_from_current, camera, prev_camera, tracer.packet_hit(packet, lane), dir, film[lane], size_t(y) * w + x, out);
-        }
+        for (int lane = 0, k = first; lane < 16; ++lane)
+          if (packet.valid[lane]) hits[k++] = tracer.packet_hit(packet, lane);
       }
     }
+    for (int k = 0; k < count; ++k)
+      write_pixel(scene, prev_from_current, camera, prev_camera, hits[k], dirs[k], film[k], pixel[k], out);
+    uint64_t traced = uint64_t(count);
     rays.add(traced);
   });
 }
