@@ -55,7 +55,10 @@ int run_render(RenderOptions& o) {
     throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
   check_output_path(o.out, {".exr", ".png"}, "--out");
   if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
-  o.settings.light_sampler = o.light_sampler == "uniform" ? LightSamplerKind::Uniform : LightSamplerKind::Power;
+  const std::map<std::string, LightSamplerKind> samplers = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
+                                                            {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
+  o.settings.light_sampler = samplers.at(o.light_sampler);
+  o.settings.method = o.method == "direct" ? Method::Direct : Method::PathTrace;
   BuiltinOptions builtin;
   builtin.light_count = o.lights;
   auto t0 = std::chrono::steady_clock::now();
@@ -110,10 +113,10 @@ int main(int argc, char** argv) {
   render->add_option("--seed", r.settings.seed, "Random seed; same seed, same image, whatever the thread count")->capture_default_str();
   render->add_option("--max-depth", r.settings.max_depth, "Path tracer bounces; 1 = direct light only")
       ->check(CLI::Range(1, 1024))->capture_default_str();
-  render->add_option("--method", r.method, "Estimator: pt (reference path tracer)")
-      ->check(CLI::IsMember({"pt"}))->capture_default_str();
-  render->add_option("--light-sampler", r.light_sampler, "Light selection for next-event estimation")
-      ->check(CLI::IsMember({"uniform", "power"}))->capture_default_str();
+  render->add_option("--method", r.method, "Estimator: pt (reference path tracer) or direct (direct light only: light samples and a BSDF sample combined by MIS)")
+      ->check(CLI::IsMember({"pt", "direct"}))->capture_default_str();
+  render->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
+      ->check(CLI::IsMember({"uniform", "power", "tree", "exhaustive"}))->capture_default_str();
   render->add_option("--stats", r.stats, "Write per-frame stage timings and ray counts as JSON");
   render->add_option("--exposure", r.exposure, "Exposure multiplier applied before tonemapping (PNG only)")
       ->check(CLI::Range(1e-6f, 1e6f))->capture_default_str();

@@ -8,6 +8,8 @@ namespace candela {
 AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& lights) {
   switch (kind) {
     case LightSamplerKind::Uniform: return UniformLightSampler(lights);
+    case LightSamplerKind::Tree: return LightTreeSampler(lights);
+    case LightSamplerKind::Exhaustive: return ExhaustiveLightSampler(lights);
     case LightSamplerKind::Power: default: return PowerLightSampler(lights);
   }
 }
@@ -35,7 +37,10 @@ void Renderer::update_scene(float time, const CameraDesc& camera, FrameStats& st
     scene_.set_time(time);
     tracer_->update_instances(scene_);
     lights_.update(scene_);
-    // Rigid motion keeps every light's power, so the power sampler's table stays valid.
+    // Rigid motion keeps every light's power, so the power table stays valid; the tree and the
+    // exhaustive sampler hold light positions and are refitted / rebuilt.
+    if (auto* tree = std::get_if<LightTreeSampler>(&sampler_)) tree->refit(lights_);
+    if (std::holds_alternative<ExhaustiveLightSampler>(sampler_)) sampler_ = ExhaustiveLightSampler(lights_);
     moved = true;
   } else if (has_frame_) {
     for (Instance& inst : scene_.instances) inst.prev_transform = inst.transform;
@@ -72,7 +77,7 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
       PathTracerParams params;
       params.spp = std::min(4, settings_.spp - done);
       params.first_sample = accumulated_spp_;
-      params.max_depth = settings_.max_depth;
+      params.max_depth = settings_.method == Method::Direct ? 1 : settings_.max_depth;
       params.seed = settings_.seed;
       std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
       done += params.spp;

@@ -14,12 +14,15 @@
 #include "engine/lights.h"
 #include "engine/scene.h"
 #include "engine/tracer.h"
+#include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
 
 namespace candela {
 
-enum class Method { PathTrace };
-enum class LightSamplerKind { Uniform, Power };
+// pt: the reference path tracer; direct: the same estimator stopped after one bounce (emission seen
+// plus light sampling and a BSDF sample combined by MIS at the first hit).
+enum class Method { PathTrace, Direct };
+enum class LightSamplerKind { Uniform, Power, Tree, Exhaustive };
 
 struct RenderSettings {
   int width = 640, height = 360;
@@ -31,7 +34,7 @@ struct RenderSettings {
   bool accumulate = true;      // progressive accumulation while camera and scene stay still
 };
 
-using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler>;
+using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler, LightTreeSampler, ExhaustiveLightSampler>;
 
 class Renderer {
  public:

@@ -7,6 +7,7 @@
 
 #include "engine/builtin_scenes.h"
 #include "engine/rng.h"
+#include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
 #include "tests/test_util.h"
 
@@ -18,9 +19,8 @@ namespace {
 // error that depends on how bright a light is (as precision loss does) or where it is in the list is
 // concentrated in its group. Significance 1e-3, fixed seed.
 template <class Sampler>
-void expect_frequencies_match_pmf(const LightList& lights, int samples) {
-  Sampler sampler(lights);
-  ShadingContext ctx;
+void expect_frequencies_match_pmf(const Sampler& sampler, const LightList& lights, const ShadingContext& ctx, int samples,
+                                  uint64_t seed = 17) {
   size_t n = lights.size();
   std::vector<int> group_of(n);
   std::map<int, int> group_index;
@@ -37,7 +37,7 @@ void expect_frequencies_match_pmf(const LightList& lights, int samples) {
   }
   const int groups = int(expected.size());
   EXPECT_NEAR(pmf_sum, 1.0, 1e-4);
-  Rng rng(17, 3);
+  Rng rng(seed, 3);
   for (int k = 0; k < samples; ++k) {
     SampledLight s = sampler.sample(ctx, vec2(rng.next_float(), rng.next_float()));
     ASSERT_LT(s.index, n);
@@ -56,19 +56,54 @@ void expect_frequencies_match_pmf(const LightList& lights, int samples) {
 
 TEST(Samplers, PowerFrequenciesMatchPmfWithFewLights) {
   LightList lights(make_manylights_scene(64, 7));
-  expect_frequencies_match_pmf<PowerLightSampler>(lights, 400000);
+  expect_frequencies_match_pmf(PowerLightSampler(lights), lights, ShadingContext{}, 400000);
 }
 
 // 200k emissive triangles whose powers span three decades.
 TEST(Samplers, PowerFrequenciesMatchPmfWithManyLights) {
   LightList lights(make_manylights_scene(100000, 7));
-  expect_frequencies_match_pmf<PowerLightSampler>(lights, 10000000);
+  expect_frequencies_match_pmf(PowerLightSampler(lights), lights, ShadingContext{}, 10000000);
 }
 
 TEST(Samplers, UniformFrequenciesMatchPmfWithManyLights) {
   LightList lights(make_manylights_scene(100000, 7));
-  expect_frequencies_match_pmf<UniformLightSampler>(lights, 2000000);
+  expect_frequencies_match_pmf(UniformLightSampler(lights), lights, ShadingContext{}, 2000000);
 }
+
+// Shading points spread through a scene: positions in its bounds, random normals.
+std::vector<ShadingContext> shading_points(const Scene& scene, int count, uint64_t seed) {
+  Bounds3 b = scene.bounds();
+  Rng rng(seed, 5);
+  std::vector<ShadingContext> points;
+  for (int k = 0; k < count; ++k) {
+    vec3 p = b.lo + (b.hi - b.lo) * vec3(rng.next_float(), rng.next_float(), rng.next_float());
+    vec3 n = glm::normalize(vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f));
+    points.push_back({p, n});
+  }
+  return points;
+}
+
+// The context-dependent samplers at shading points of builtin:manylights (256 lights = 512 triangles):
+// frequencies match pmf (grouped chi-square at 1e-3 per point), pmf sums to 1 wherever a light can
+// reach, and sample() reports exactly pmf().
+template <class Sampler>
+void check_context_sampler(const Scene& scene, int points, int samples) {
+  LightList lights(scene);
+  Sampler sampler(lights);
+  int k = 0;
+  for (const ShadingContext& ctx : shading_points(scene, points, 23)) {
+    double sum = 0.0;
+    for (uint32_t i = 0; i < lights.size(); ++i) sum += sampler.pmf(ctx, i);
+    if (sum == 0.0) continue;  // e.g. behind every emitter: no light can contribute
+    EXPECT_NEAR(sum, 1.0, 1e-4) << "shading point " << k;
+    expect_frequencies_match_pmf(sampler, lights, ctx, samples, 100 + k++);
+  }
+  EXPECT_GT(k, points / 2);
+}
+
+TEST(Samplers, TreeFrequenciesMatchPmf) { check_context_sampler<LightTreeSampler>(make_manylights_scene(256, 7), 12, 200000); }
+TEST(Samplers, ExhaustiveFrequenciesMatchPmf) { check_context_sampler<ExhaustiveLightSampler>(make_manylights_scene(64, 7), 4, 50000); }
+TEST(Samplers, TreeFrequenciesMatchPmfInTheCity) { check_context_sampler<LightTreeSampler>(make_city_scene(7), 3, 200000); }
 
 }  // namespace
 }  // namespace candela

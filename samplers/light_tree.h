@@ -1,0 +1,67 @@
+#pragma once
+// Light BVH sampler (Conty Estevez & Kulla 2018; pbrt-v4's BVHLightSampler is a documented instance):
+// a binary tree over the lights, each node holding the LightBounds of its subtree. Sampling descends
+// from the root choosing a child with probability proportional to its importance for the shading point;
+// pmf() retraces the same path with the light's bit trail. Lights at infinity (directional) are chosen
+// uniformly with a separate probability. refit() follows lights that move or change power.
+#include <vector>
+
+#include "engine/light_sampler.h"
+#include "engine/lights.h"
+#include "samplers/light_bounds.h"
+
+namespace candela {
+
+class LightTreeSampler {
+ public:
+  // Builds with a binned surface-area-orientation heuristic (12 buckets per axis). O(n log n).
+  explicit LightTreeSampler(const LightList& lights);
+
+  SampledLight sample(const ShadingContext& ctx, vec2 u) const;
+  float pmf(const ShadingContext& ctx, uint32_t index) const;
+  // Recomputes every node's bounds from the lights' current geometry and power (same topology). O(n).
+  void refit(const LightList& lights);
+
+  size_t node_count() const { return nodes_.size(); }
+  int depth() const { return max_depth_; }
+
+ private:
+  struct Node {
+    LightBounds bounds;
+    uint32_t index = 0;  // leaf: light index; interior: the second child (the first is the next node)
+    bool leaf = false;
+  };
+  struct Entry {
+    uint32_t light;
+    LightBounds bounds;
+  };
+  uint32_t build(std::vector<Entry>& entries, size_t begin, size_t end, uint64_t trail, int depth);
+  // Probability of stepping to the first child of interior node `node` for the shading point.
+  float first_child_probability(const Node& node, const ShadingContext& ctx) const;
+  float infinite_probability() const;
+
+  std::vector<Node> nodes_;
+  std::vector<uint32_t> infinite_;    // directional lights
+  std::vector<uint64_t> trail_;       // per light: the child taken at each level, bit d for depth d
+  std::vector<uint32_t> leaf_of_;     // per light: its leaf node (kNoLeaf for infinite lights)
+  int max_depth_ = 0;
+};
+
+// The oracle: importance of every light for the shading point, sampled by a linear scan. O(n) per call.
+class ExhaustiveLightSampler {
+ public:
+  explicit ExhaustiveLightSampler(const LightList& lights);
+  SampledLight sample(const ShadingContext& ctx, vec2 u) const;
+  float pmf(const ShadingContext& ctx, uint32_t index) const;
+
+ private:
+  float infinite_probability() const;
+  std::vector<LightBounds> bounds_;
+  std::vector<uint32_t> infinite_;
+  std::vector<uint8_t> is_infinite_;
+};
+
+static_assert(LightSampler<LightTreeSampler>);
+static_assert(LightSampler<ExhaustiveLightSampler>);
+
+}  // namespace candela
