@@ -107,11 +107,11 @@ Scene make_manylights_scene(int light_count, uint64_t seed) {
   b.box(metal, vec3(3.0f, 0.5f, -2.0f), vec3(1.0f, 0.5f, 0.7f), 0.5f, true);
   b.box(block, vec3(-5.5f, 0.6f, -6.0f), vec3(1.2f, 0.6f, 1.2f), 0.9f, true);
 
-  // Ceiling grid: N quads, each with one of 64 palette materials (random hue, power log-uniform over 3 decades).
+  // Ceiling grid: N quads, each with one of 64 palette materials (random hue, power log-uniform over 4 decades).
   Rng rng(seed, 0x11);
   std::vector<int> palette;
   for (int k = 0; k < 64; ++k) {
-    float power = std::pow(10.0f, rng.next_float() * 3.0f - 2.0f);
+    float power = std::pow(10.0f, rng.next_float() * 4.0f - 2.5f);
     palette.push_back(b.material(vec3(0.8f), 0.8f, hue_color(rng.next_float()) * power));
   }
   int grid = int(std::ceil(std::sqrt(float(light_count))));
