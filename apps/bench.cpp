@@ -21,6 +21,8 @@
 namespace candela {
 
 void add_bench_options(CLI::App& app, BenchOptions& o) {
+  app.add_option("--suite", o.suite, "rays: primary/shadow ray throughput per scene; samplers: light selection cost and light tree build/refit")
+      ->check(CLI::IsMember({"rays", "samplers"}))->capture_default_str();
   app.add_option("--scenes", o.scenes, "Scenes to measure (default: builtin:cornell builtin:manylights builtin:city "
                                        "and StainedGlassLamp from ../shared/scenes when present)");
   app.add_option("--width", o.width, "Image width of the ray batches")->check(CLI::Range(16, 16384))->capture_default_str();
@@ -122,28 +124,48 @@ uint64_t shadow_rays(const BenchScene& s, bool packets) {
 // Remembers every repetition so the summary can quote medians and ratios from this one process.
 class CollectingReporter : public benchmark::ConsoleReporter {
  public:
-  explicit CollectingReporter(OutputOptions options) : ConsoleReporter(options) {}
-  std::map<std::string, std::vector<double>> rates;  // "kind/scene" -> rays per second of each repetition
+  explicit CollectingReporter(OutputOptions options, BenchResults& results) : ConsoleReporter(options), results_(results) {}
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& run : runs) {
+      if (run.run_type != Run::RT_Iteration || run.iterations == 0) continue;
+      std::string name = run.run_name.function_name;
+      results_.ns_per_iteration[name].push_back(run.real_accumulated_time * 1e9 / double(run.iterations));
       auto it = run.counters.find("rays/s");
-      if (run.run_type == Run::RT_Iteration && it != run.counters.end())
-        rates[run.run_name.function_name].push_back(it->second.value);
+      if (it != run.counters.end()) results_.rays_per_second[name].push_back(it->second.value);
     }
     ConsoleReporter::ReportRuns(runs);
   }
-  double median(const std::string& name) const {
-    auto it = rates.find(name);
-    if (it == rates.end() || it->second.empty()) return 0.0;
-    std::vector<double> v = it->second;
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-  }
+
+ private:
+  BenchResults& results_;
 };
 
 }  // namespace
 
+double BenchResults::median(const std::map<std::string, std::vector<double>>& m, const std::string& name) {
+  auto it = m.find(name);
+  if (it == m.end() || it->second.empty()) return 0.0;
+  std::vector<double> v = it->second;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+BenchResults run_registered_benchmarks(const BenchOptions& o) {
+  std::string filter_flag = "--benchmark_filter=" + o.filter;
+  int argc = 2;
+  char arg0[] = "candela";
+  char* argv[] = {arg0, filter_flag.data(), nullptr};
+  benchmark::Initialize(&argc, argv);
+  BenchResults results;
+  CollectingReporter reporter(isatty(fileno(stdout)) ? benchmark::ConsoleReporter::OO_Defaults
+                                                     : benchmark::ConsoleReporter::OO_Tabular, results);
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  benchmark::Shutdown();
+  return results;
+}
+
 int run_bench(const BenchOptions& o) {
+  if (o.suite == "samplers") return run_sampler_bench(o);
   std::vector<std::string> sources = o.scenes.empty() ? default_scenes() : o.scenes;
   std::vector<std::unique_ptr<BenchScene>> scenes;
   for (const std::string& source : sources) {
@@ -178,20 +200,12 @@ int run_bench(const BenchOptions& o) {
     add("shadow_occluded16", [s] { return shadow_rays(*s, true); });
     add("shadow_occluded1", [s] { return shadow_rays(*s, false); });
   }
-  std::string filter_flag = "--benchmark_filter=" + o.filter;
-  int argc = 2;
-  char arg0[] = "candela";
-  char* argv[] = {arg0, filter_flag.data(), nullptr};
-  benchmark::Initialize(&argc, argv);
-  CollectingReporter reporter(isatty(fileno(stdout)) ? benchmark::ConsoleReporter::OO_Defaults
-                                                     : benchmark::ConsoleReporter::OO_Tabular);
-  benchmark::RunSpecifiedBenchmarks(&reporter);
-  benchmark::Shutdown();
+  BenchResults results = run_registered_benchmarks(o);
 
   std::printf("\nSummary at %dx%d (medians of %d repetitions, Mrays/s):\n", o.width, o.height, o.repetitions);
   std::printf("%-20s %12s %10s %12s %12s %12s\n", "scene", "raw_isect16", "gbuffer", "raw/gbuffer", "occluded16", "occluded1");
   for (const std::string& name : names) {
-    auto rate = [&](const std::string& kind) { return reporter.median(kind + "/" + name) * 1e-6; };
+    auto rate = [&](const std::string& kind) { return BenchResults::median(results.rays_per_second, kind + "/" + name) * 1e-6; };
     double raw = rate("raw_intersect16"), gb = rate("gbuffer");
     std::printf("%-20s %12.2f %10.2f %12.2f %12.2f %12.2f\n", name.c_str(), raw, gb, gb > 0 ? raw / gb : 0.0,
                 rate("shadow_occluded16"), rate("shadow_occluded1"));

@@ -2,12 +2,14 @@
 // `candela bench`: ray throughput of the G-buffer pass and of shadow rays, next to raw Embree packet
 // throughput on the same scene and rays, measured with Google Benchmark.
 #include <CLI/CLI.hpp>
+#include <map>
 #include <string>
 #include <vector>
 
 namespace candela {
 
 struct BenchOptions {
+  std::string suite = "rays";       // rays: ray throughput; samplers: light selection cost
   std::vector<std::string> scenes;  // empty: the built-in scenes plus StainedGlassLamp when ../shared exists
   int width = 1280, height = 720;
   int threads = 0;
@@ -18,5 +20,15 @@ struct BenchOptions {
 
 void add_bench_options(CLI::App& app, BenchOptions& options);
 int run_bench(const BenchOptions& options);
+
+// Medians over repetitions of what Google Benchmark measured, per benchmark name.
+struct BenchResults {
+  std::map<std::string, std::vector<double>> rays_per_second, ns_per_iteration;
+  static double median(const std::map<std::string, std::vector<double>>& m, const std::string& name);
+};
+// Runs every registered benchmark matching options.filter, printing Google Benchmark's table.
+BenchResults run_registered_benchmarks(const BenchOptions& options);
+// The samplers suite (bench_samplers.cpp).
+int run_sampler_bench(const BenchOptions& options);
 
 }  // namespace candela

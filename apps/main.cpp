@@ -1,4 +1,4 @@
-// `candela`: one binary, subcommands `render` and `bench`. Bad command lines and bad input files print a
+// `candela`: one binary, subcommands `render`, `compare` and `bench`. Bad command lines and bad input files print a
 // message naming the option or file and exit non-zero.
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
@@ -12,6 +12,7 @@
 #include "apps/scene_source.h"
 #include "apps/stats_json.h"
 #include "engine/check.h"
+#include "engine/image_metrics.h"
 
 using namespace candela;
 
@@ -76,11 +77,13 @@ int run_render(RenderOptions& o) {
   CameraDesc camera = renderer.scene().default_camera();
   for (int f = 0; f < o.frames; ++f) {
     auto progress = [&](int done, int total) {
-      if (!o.quiet && total > 4) std::fprintf(stderr, "\r  frame %d/%d: %d/%d spp", f + 1, o.frames, done, total);
+      if (o.quiet || (total > 0 && total <= 4)) return;
+      if (total > 0) std::fprintf(stderr, "\r  frame %d/%d: %d/%d spp", f + 1, o.frames, done, total);
+      else std::fprintf(stderr, "\r  frame %d/%d: %d spp", f + 1, o.frames, done);
     };
     FrameStats stats = renderer.render_frame(f, float(f) / o.fps, camera, progress);
     if (!o.quiet) {
-      std::fprintf(stderr, "\rframe %d/%d: %.1f ms, %.2f Mrays/s |", f + 1, o.frames, stats.total_ms,
+      std::fprintf(stderr, "\rframe %d/%d: %d spp, %.1f ms, %.2f Mrays/s |", f + 1, o.frames, stats.spp, stats.total_ms,
                    stats.rays() / (stats.total_ms * 1e3));
       for (const StageStats& s : stats.stages) std::fprintf(stderr, " %s %.1f ms", s.name.c_str(), s.ms);
       std::fprintf(stderr, "\n");
@@ -117,6 +120,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"pt", "direct"}))->capture_default_str();
   render->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
       ->check(CLI::IsMember({"uniform", "power", "tree", "exhaustive"}))->capture_default_str();
+  render->add_option("--time-budget-ms", r.settings.time_budget_ms,
+                     "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds (overrides --spp)")
+      ->check(CLI::Range(0.0, 1e9));
   render->add_option("--stats", r.stats, "Write per-frame stage timings and ray counts as JSON");
   render->add_option("--exposure", r.exposure, "Exposure multiplier applied before tonemapping (PNG only)")
       ->check(CLI::Range(1e-6f, 1e6f))->capture_default_str();
@@ -127,6 +133,11 @@ int main(int argc, char** argv) {
                      "Uniform background radiance (grey); default: the built-in scene's own, 0.3 for glTF files")
       ->check(CLI::Range(0.0f, 1e6f));
   render->add_flag("--quiet,-q", r.quiet, "No progress output");
+
+  std::string compare_image, compare_reference;
+  CLI::App* compare = app.add_subcommand("compare", "Error of an image against a reference (EXR): MSE and relMSE");
+  compare->add_option("image", compare_image, "Image to measure (.exr)")->required()->check(CLI::ExistingFile);
+  compare->add_option("reference", compare_reference, "Reference image (.exr), e.g. a converged render")->required()->check(CLI::ExistingFile);
 
   BenchOptions b;
   CLI::App* bench = app.add_subcommand("bench", "Ray throughput benchmarks (Google Benchmark)");
@@ -142,6 +153,12 @@ int main(int argc, char** argv) {
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
     if (render->parsed()) return run_render(r);
+    if (compare->parsed()) {
+      ImageError e = compare_images(read_image(compare_image), read_image(compare_reference));
+      std::printf("mse %.6e rel_mse %.6e mean_difference %+.6e standard_error %.6e\n", e.mse, e.rel_mse, e.mean_difference,
+                  e.standard_error);
+      return 0;
+    }
     return run_bench(b);
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

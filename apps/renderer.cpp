@@ -72,18 +72,26 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   {
     StageTimer timer(stats, "path_trace");
     SceneView view{scene_, *tracer_, lights_, camera_};
-    // Sample passes of at most 4 spp, so long renders can report progress.
-    for (int done = 0; done < settings_.spp;) {
+    // Sample passes of at most 4 spp (1 under a time budget), so long renders can report progress.
+    auto stage_start = std::chrono::steady_clock::now();
+    auto more = [&](int done) {
+      if (settings_.time_budget_ms <= 0.0) return done < settings_.spp;
+      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stage_start).count() <
+             settings_.time_budget_ms;
+    };
+    int done = 0;
+    while (more(done)) {
       PathTracerParams params;
-      params.spp = std::min(4, settings_.spp - done);
+      params.spp = settings_.time_budget_ms > 0.0 ? 1 : std::min(4, settings_.spp - done);
       params.first_sample = accumulated_spp_;
       params.max_depth = settings_.method == Method::Direct ? 1 : settings_.max_depth;
       params.seed = settings_.seed;
       std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
       done += params.spp;
       accumulated_spp_ += params.spp;
-      if (progress) progress(done, settings_.spp);
+      if (progress) progress(done, settings_.time_budget_ms > 0.0 ? 0 : settings_.spp);
     }
+    stats.spp = done;
   }
   stats.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;

@@ -32,6 +32,7 @@ struct RenderSettings {
   Method method = Method::PathTrace;
   LightSamplerKind light_sampler = LightSamplerKind::Power;
   bool accumulate = true;      // progressive accumulation while camera and scene stay still
+  double time_budget_ms = 0.0; // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
 };
 
 using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler, LightTreeSampler, ExhaustiveLightSampler>;
@@ -41,7 +42,8 @@ class Renderer {
   Renderer(Scene scene, const RenderSettings& settings);
 
   // Renders frame `frame_index` at scene time `time` seen from `camera`; returns its stats.
-  // `progress`, if set, is called after each sample pass with (samples done, samples total).
+  // `progress`, if set, is called after each sample pass with (samples done, samples total; total 0
+  // with a time budget).
   FrameStats render_frame(int frame_index, float time, const CameraDesc& camera,
                           const std::function<void(int, int)>& progress = {});
   // The displayed image: accumulated radiance divided by the samples accumulated so far.

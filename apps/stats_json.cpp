@@ -12,7 +12,7 @@ nlohmann::json stats_to_json(const std::vector<FrameStats>& frames) {
   for (const FrameStats& f : frames) {
     nlohmann::json stages = nlohmann::json::array();
     for (const StageStats& s : f.stages) stages.push_back({{"name", s.name}, {"ms", s.ms}, {"rays", s.rays}});
-    out.push_back({{"frame", f.frame}, {"total_ms", f.total_ms}, {"rays", f.rays()}, {"stages", stages}});
+    out.push_back({{"frame", f.frame}, {"spp", f.spp}, {"total_ms", f.total_ms}, {"rays", f.rays()}, {"stages", stages}});
   }
   return out;
 }

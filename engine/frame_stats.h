@@ -17,6 +17,7 @@ struct StageStats {
 
 struct FrameStats {
   int frame = 0;
+  int spp = 0;  // samples per pixel the frame's estimator took
   double total_ms = 0.0;
   std::vector<StageStats> stages;
   uint64_t rays() const;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/builtin_scenes.h"
+#include "engine/image_metrics.h"
 #include "engine/path_tracer.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
@@ -65,27 +66,6 @@ Image render_direct(const Scene& scene, const LightList& lights, int w, int h, i
   return sum;
 }
 
-struct ErrorStats {
-  double mean_difference, standard_error, mse, rel_mse;
-};
-
-// Difference to the reference over pixels and channels: its mean with a standard error (pixels have
-// independent random streams), the mean squared error and the relative MSE, (x - r)^2 / (r^2 + 0.01).
-ErrorStats compare(const Image& estimate, const Image& reference) {
-  double sum = 0.0, sum2 = 0.0, rel = 0.0;
-  size_t n = 0;
-  for (size_t i = 0; i < estimate.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      double r = reference.pixels[i][c], d = double(estimate.pixels[i][c]) - r;
-      sum += d;
-      sum2 += d * d;
-      rel += d * d / (r * r + 0.01);
-      ++n;
-    }
-  double mean = sum / n;
-  return {mean, std::sqrt((sum2 / n - mean * mean) / n), sum2 / n, rel / n};
-}
-
 class DirectLightScene : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -108,7 +88,7 @@ Image* DirectLightScene::reference_ = nullptr;
 // (two-sided, about 6e-5 chance of a false failure per sampler).
 TEST_F(DirectLightScene, EverySamplerIsUnbiased) {
   auto check = [&](const char* name, const Image& img) {
-    ErrorStats e = compare(img, *reference_);
+    ImageError e = compare_images(img, *reference_);
     EXPECT_LT(std::abs(e.mean_difference), 4.0 * e.standard_error + 1e-6) << name << ": mean difference " << e.mean_difference;
     std::printf("%-10s mean difference %+.5f (standard error %.5f), MSE %.3e, relMSE %.3e\n", name, e.mean_difference,
                 e.standard_error, e.mse, e.rel_mse);
@@ -121,9 +101,9 @@ TEST_F(DirectLightScene, EverySamplerIsUnbiased) {
 
 // Equal sample count (64 paths per pixel): relative MSE of tree < power < uniform.
 TEST_F(DirectLightScene, VarianceOrderingTreePowerUniform) {
-  double uniform = compare(render_direct<UniformLightSampler>(*scene_, *lights_, kW, kH, 64, 5), *reference_).rel_mse;
-  double power = compare(render_direct<PowerLightSampler>(*scene_, *lights_, kW, kH, 64, 6), *reference_).rel_mse;
-  double tree = compare(render_direct<LightTreeSampler>(*scene_, *lights_, kW, kH, 64, 7), *reference_).rel_mse;
+  double uniform = compare_images(render_direct<UniformLightSampler>(*scene_, *lights_, kW, kH, 64, 5), *reference_).rel_mse;
+  double power = compare_images(render_direct<PowerLightSampler>(*scene_, *lights_, kW, kH, 64, 6), *reference_).rel_mse;
+  double tree = compare_images(render_direct<LightTreeSampler>(*scene_, *lights_, kW, kH, 64, 7), *reference_).rel_mse;
   std::printf("relMSE at 64 spp: uniform %.3e, power %.3e, tree %.3e\n", uniform, power, tree);
   EXPECT_LT(tree, power);
   EXPECT_LT(power, uniform);

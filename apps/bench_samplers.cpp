@@ -1,0 +1,101 @@
+// `candela bench --suite samplers`: cost of light selection (ns per sample and per pmf) at 1e2..1e6
+// lights, and the light tree's build and refit times.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+
+#include "apps/bench.h"
+#include "engine/builtin_scenes.h"
+#include "engine/rng.h"
+#include "samplers/light_tree.h"
+#include "samplers/simple_samplers.h"
+
+namespace candela {
+
+namespace {
+
+// builtin:manylights with `count` emissive triangles (two per ceiling quad) and shading points in it.
+struct SamplerScene {
+  Scene scene;
+  std::unique_ptr<LightList> lights;
+  std::vector<ShadingContext> points;
+  explicit SamplerScene(int count) : scene(make_manylights_scene(std::max(1, count / 2), 7)) {
+    lights = std::make_unique<LightList>(scene);
+    Rng rng(5, 5);
+    Bounds3 b = scene.bounds();
+    for (int k = 0; k < 1024; ++k) {
+      vec3 p = b.lo + (b.hi - b.lo) * vec3(rng.next_float(), rng.next_float() * 0.9f, rng.next_float());
+      points.push_back({p, vec3(0.0f, 1.0f, 0.0f)});
+    }
+  }
+};
+
+template <class Sampler>
+void register_sampler(const std::string& name, const SamplerScene& s, const BenchOptions& o) {
+  auto sampler = std::make_shared<Sampler>(*s.lights);
+  std::string n = std::to_string(s.lights->size());
+  auto configure = [&](benchmark::internal::Benchmark* b) {
+    b->MinTime(o.min_time)->Repetitions(o.repetitions)->UseRealTime()->Unit(benchmark::kNanosecond)->Threads(1);
+  };
+  configure(benchmark::RegisterBenchmark(("sample/" + name + "/" + n).c_str(), [sampler, &s](benchmark::State& state) {
+    Rng rng(1, 2);
+    size_t k = 0;
+    for (auto _ : state) {
+      SampledLight l = sampler->sample(s.points[k++ & 1023], vec2(rng.next_float(), rng.next_float()));
+      benchmark::DoNotOptimize(l);
+    }
+  }));
+  configure(benchmark::RegisterBenchmark(("pmf/" + name + "/" + n).c_str(), [sampler, &s](benchmark::State& state) {
+    size_t k = 0;
+    uint32_t count = uint32_t(s.lights->size());
+    for (auto _ : state) {
+      float p = sampler->pmf(s.points[k & 1023], uint32_t((k * 2654435761u) % count));
+      ++k;
+      benchmark::DoNotOptimize(p);
+    }
+  }));
+}
+
+}  // namespace
+
+int run_sampler_bench(const BenchOptions& o) {
+  std::vector<std::unique_ptr<SamplerScene>> keep;
+  for (int count : {100, 1000, 10000, 100000, 1000000}) {
+    keep.push_back(std::make_unique<SamplerScene>(count));
+    const SamplerScene& s = *keep.back();
+    register_sampler<UniformLightSampler>("uniform", s, o);
+    register_sampler<PowerLightSampler>("power", s, o);
+    register_sampler<LightTreeSampler>("tree", s, o);
+  }
+  // Build over the largest list; refit of a 100k-light tree.
+  const SamplerScene& big = *keep[keep.size() - 1];
+  benchmark::RegisterBenchmark(("tree_build/" + std::to_string(big.lights->size())).c_str(), [&big](benchmark::State& state) {
+    for (auto _ : state) benchmark::DoNotOptimize(LightTreeSampler(*big.lights).node_count());
+  })->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(o.repetitions)->Iterations(1);
+  const SamplerScene& mid = *keep[keep.size() - 2];
+  auto tree = std::make_shared<LightTreeSampler>(*mid.lights);
+  benchmark::RegisterBenchmark(("tree_refit/" + std::to_string(mid.lights->size())).c_str(), [tree, &mid](benchmark::State& state) {
+    for (auto _ : state) tree->refit(*mid.lights);
+  })->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(o.repetitions)->MinTime(o.min_time);
+
+  BenchResults r = run_registered_benchmarks(o);
+  std::printf("\nSummary (medians of %d repetitions, ns per call):\n%-10s", o.repetitions, "lights");
+  for (const char* k : {"uniform", "power", "tree"}) std::printf(" %12s %12s", (std::string(k) + " smp").c_str(), (std::string(k) + " pmf").c_str());
+  std::printf("\n");
+  for (const auto& s : keep) {
+    std::string n = std::to_string(s->lights->size());
+    std::printf("%-10s", n.c_str());
+    for (const char* k : {"uniform", "power", "tree"})
+      std::printf(" %12.1f %12.1f", BenchResults::median(r.ns_per_iteration, std::string("sample/") + k + "/" + n),
+                  BenchResults::median(r.ns_per_iteration, std::string("pmf/") + k + "/" + n));
+    std::printf("\n");
+  }
+  std::printf("tree build over %zu lights: %.0f ms; refit of %zu lights: %.2f ms\n", big.lights->size(),
+              BenchResults::median(r.ns_per_iteration, "tree_build/" + std::to_string(big.lights->size())) * 1e-6,
+              mid.lights->size(), BenchResults::median(r.ns_per_iteration, "tree_refit/" + std::to_string(mid.lights->size())) * 1e-6);
+  return 0;
+}
+
+}  // namespace candela

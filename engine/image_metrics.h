@@ -1,0 +1,17 @@
+#pragma once
+// Error of an image against a reference, over pixels and channels.
+#include "engine/image.h"
+
+namespace candela {
+
+struct ImageError {
+  double mean_difference = 0.0;  // mean of (x - r)
+  double standard_error = 0.0;   // of that mean, treating pixels as independent estimates
+  double mse = 0.0;              // mean of (x - r)^2
+  double rel_mse = 0.0;          // mean of (x - r)^2 / (r^2 + 0.01)
+};
+
+// Throws InputError when the sizes differ.
+ImageError compare_images(const Image& estimate, const Image& reference);
+
+}  // namespace candela
