@@ -1,5 +1,7 @@
 #include "samplers/light_tree.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 
 #include "engine/check.h"
@@ -11,76 +13,67 @@ namespace {
 constexpr int kBuckets = 12;
 constexpr int kMaxDepth = 63;  // the bit trail is a uint64_t
 constexpr uint32_t kNoLeaf = 0xffffffffu;
+constexpr size_t kParallelGrain = 4096;  // subtrees smaller than this are built / refitted serially
 
 // A 48-bit uniform from two 24-bit ones, so that many successive binary choices keep their precision.
 double wide_uniform(vec2 u) { return double(u.x) + double(u.y) * 0x1p-24; }
 
-// Bounds of many lights at once without pairwise cone unions (which need trigonometry): the cone axis is
-// the power-weighted mean direction, the spread the widest member measured from it. Conservative.
+// Bounds of many lights at once: their box, and a cone around the power-weighted mean axis. The cone's
+// spread needs a second pass over the members (bounds_of); split costs only estimate it.
 struct BoundsAccumulator {
-  Bounds3 bounds, centroids;
+  Bounds3 box, centroids;
   vec3 axis_sum{0.0f};
   float phi = 0.0f, cos_theta_e = 1.0f;
-  bool two_sided = false;
+  uint32_t two_sided = 0;
   size_t count = 0;
-  void add(const LightBounds& b) {
-    bounds.extend(b.bounds);
-    centroids.extend(b.bounds.center());
-    axis_sum += b.w * std::max(b.phi, 1e-20f);
+  // Adds a light; `with_centroid` = false skips the centroid box (buckets do not need it).
+  void add(const LightBounds& b, const Bounds3& b_box, bool with_centroid = true) {
+    box.extend(b_box);
+    if (with_centroid) centroids.extend(b_box.center());
+    axis_sum += b.w * b.phi;
     phi += b.phi;
     cos_theta_e = std::min(cos_theta_e, b.cos_theta_e);
-    two_sided = two_sided || b.two_sided;
+    two_sided |= b.two_sided;
     ++count;
   }
   void add(const BoundsAccumulator& o) {
     if (!o.count) return;
-    bounds.extend(o.bounds);
+    box.extend(o.box);
     centroids.extend(o.centroids);
     axis_sum += o.axis_sum;
     phi += o.phi;
     cos_theta_e = std::min(cos_theta_e, o.cos_theta_e);
-    two_sided = two_sided || o.two_sided;
+    two_sided |= o.two_sided;
     count += o.count;
   }
-  // For split costs only: the spread guessed from how well the members' axes agree (|mean axis|).
-  LightBounds estimate() const {
-    LightBounds lb;
-    lb.bounds = bounds;
-    lb.phi = phi;
-    lb.cos_theta_o = std::clamp(2.0f * glm::length(axis_sum) / std::max(phi, 1e-20f) - 1.0f, -1.0f, 1.0f);
-    lb.cos_theta_e = cos_theta_e;
-    return lb;
-  }
+  // Cone spread guessed from how well the members' axes agree (|mean axis|), for split costs only.
+  float estimated_cos_theta_o() const { return std::clamp(2.0f * glm::length(axis_sum) / std::max(phi, 1e-20f) - 1.0f, -1.0f, 1.0f); }
 };
 
-// Exact bounds of entries [first, last): the accumulator, then a second pass for the cone spread.
+// Exact bounds of entries [first, last): sphere around their box, and the cone spread measured from the
+// mean axis over every member.
 template <class Entry>
 LightBounds bounds_of(const BoundsAccumulator& acc, const Entry* first, const Entry* last) {
   LightBounds out;
-  out.bounds = acc.bounds;
+  out.center = acc.box.center();
+  out.radius = 0.5f * acc.box.diagonal();
   out.phi = acc.phi;
   out.cos_theta_e = acc.cos_theta_e;
   out.two_sided = acc.two_sided;
   float len = glm::length(acc.axis_sum);
-  out.w = len > 1e-12f ? acc.axis_sum / len : vec3(0.0f, 0.0f, 1.0f);
+  out.w = len > 1e-12f * acc.phi ? acc.axis_sum / len : first->bounds.w;
   float cos_o = 1.0f;
-  for (const Entry* e = first; e != last; ++e) {
-    // cos(angle(w, b.w) + theta_b), or -1 once the sum reaches pi.
-    const LightBounds& b = e->bounds;
-    float c = std::clamp(glm::dot(out.w, b.w), -1.0f, 1.0f), s = std::sqrt(1.0f - c * c);
-    float cb = std::clamp(b.cos_theta_o, -1.0f, 1.0f), sb = std::sqrt(1.0f - cb * cb);
-    bool past_pi = std::acos(c) + std::acos(cb) >= kPi;
-    cos_o = std::min(cos_o, past_pi ? -1.0f : c * cb - s * sb);
-  }
-  out.cos_theta_o = cos_o;
+  for (const Entry* e = first; e != last; ++e)
+    cos_o = std::min(cos_o, cos_of_sum(glm::dot(out.w, e->bounds.w), e->bounds.cos_theta_o, e->bounds.sin_theta_o));
+  out.set_cos_theta_o(cos_o);
   return out;
 }
 
 // Cost of a cluster in the surface-area-orientation heuristic (Conty Estevez & Kulla 2018, eq. 2).
-float saoh_cost(const LightBounds& b, float regularization) {
-  vec3 e = b.bounds.extent();
+float saoh_cost(const BoundsAccumulator& a, float regularization) {
+  vec3 e = a.box.extent();
   float area = 2.0f * (e.x * e.y + e.y * e.z + e.z * e.x);
-  return b.phi * cone_measure(b.cos_theta_o, b.cos_theta_e) * std::max(area, 1e-12f) * regularization;
+  return a.phi * cone_measure(a.estimated_cos_theta_o(), a.cos_theta_e) * std::max(area, 1e-12f) * regularization;
 }
 
 }  // namespace
@@ -91,52 +84,58 @@ LightTreeSampler::LightTreeSampler(const LightList& lights) {
   leaf_of_.assign(lights.size(), kNoLeaf);
   for (uint32_t i = 0; i < lights.size(); ++i) {
     if (is_infinite_light(lights, i)) { infinite_.push_back(i); continue; }
-    LightBounds b = light_bounds(lights, i);
-    if (b.phi > 0.0f) entries.push_back({i, b});
+    Bounds3 box;
+    LightBounds b = light_bounds(lights, i, &box);
+    if (b.phi > 0.0f) entries.push_back({i, b, box});
   }
   if (!entries.empty()) {
-    nodes_.reserve(2 * entries.size());
-    build(entries, 0, entries.size(), 0, 0);
+    nodes_.resize(2 * entries.size() - 1);
+    max_depth_ = build(entries, 0, entries.size(), 0, 0, 0);
   }
 }
 
-// Builds the subtree over entries [begin, end) in depth-first order (first child right after its
-// parent); returns its node index. Below depth 32 it always halves by count, so depth stays < 63.
-uint32_t LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t end, uint64_t trail, int depth) {
-  uint32_t node = uint32_t(nodes_.size());
-  nodes_.emplace_back();
-  max_depth_ = std::max(max_depth_, depth);
+// Builds the subtree over entries [begin, end) in depth-first order: the first child right after its
+// parent, the second after the first child's 2m - 1 nodes (m lights), which fixes every index in advance
+// so that subtrees build in parallel. Below depth 32 it always halves by count, so depth stays < 63.
+int LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t end, uint32_t node, uint64_t trail, int depth) {
   if (end - begin == 1) {
     nodes_[node].bounds = entries[begin].bounds;
     nodes_[node].index = entries[begin].light;
     nodes_[node].leaf = true;
     trail_[entries[begin].light] = trail;
     leaf_of_[entries[begin].light] = node;
-    return node;
+    return depth;
   }
   BoundsAccumulator all;
-  for (size_t k = begin; k < end; ++k) all.add(entries[k].bounds);
+  for (size_t k = begin; k < end; ++k) all.add(entries[k].bounds, entries[k].box);
   nodes_[node].bounds = bounds_of(all, &entries[begin], entries.data() + end);
 
-  // Binned SAOH: the cheapest (axis, bucket boundary) over 12 buckets per axis of the centroid box.
+  // Binned SAOH: the cheapest (axis, bucket boundary) over up to 12 buckets per axis of the centroid
+  // box (fewer for small nodes: their split costs, with a cone measure each, dominate the build).
   vec3 extent = all.centroids.extent();
+  const int buckets = int(std::min<size_t>(kBuckets, end - begin));
   float best_cost = kInfinity;
   int best_axis = -1, best_split = 0;
   auto bucket_of = [&](const Entry& e, int axis) {
-    float t = (e.bounds.bounds.center()[axis] - all.centroids.lo[axis]) / extent[axis];
-    return std::clamp(int(t * kBuckets), 0, kBuckets - 1);
+    float t = (e.box.center()[axis] - all.centroids.lo[axis]) / extent[axis];
+    return std::clamp(int(t * buckets), 0, buckets - 1);
   };
+  // One pass over the entries fills the buckets of all three axes (the build is memory-bound).
+  BoundsAccumulator buckets_of_axis[3][kBuckets];
+  if (depth < 32)
+    for (size_t k = begin; k < end; ++k)
+      for (int axis = 0; axis < 3; ++axis)
+        if (extent[axis] > 0.0f) buckets_of_axis[axis][bucket_of(entries[k], axis)].add(entries[k].bounds, entries[k].box, false);
   for (int axis = 0; axis < 3 && depth < 32; ++axis) {
     if (extent[axis] <= 0.0f) continue;
-    BoundsAccumulator bucket[kBuckets];
-    for (size_t k = begin; k < end; ++k) bucket[bucket_of(entries[k], axis)].add(entries[k].bounds);
-    float regularization = max_component(all.bounds.extent()) / std::max(all.bounds.extent()[axis], 1e-12f);
-    for (int split = 1; split < kBuckets; ++split) {
+    const BoundsAccumulator* bucket = buckets_of_axis[axis];
+    float regularization = max_component(all.box.extent()) / std::max(all.box.extent()[axis], 1e-12f);
+    for (int split = 1; split < buckets; ++split) {
       BoundsAccumulator left, right;
       for (int b = 0; b < split; ++b) left.add(bucket[b]);
-      for (int b = split; b < kBuckets; ++b) right.add(bucket[b]);
+      for (int b = split; b < buckets; ++b) right.add(bucket[b]);
       if (!left.count || !right.count) continue;
-      float cost = saoh_cost(left.estimate(), regularization) + saoh_cost(right.estimate(), regularization);
+      float cost = saoh_cost(left, regularization) + saoh_cost(right, regularization);
       if (cost < best_cost) { best_cost = cost; best_axis = axis; best_split = split; }
     }
   }
@@ -151,14 +150,18 @@ uint32_t LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size
     mid = begin + (end - begin) / 2;
     int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
     std::nth_element(entries.begin() + begin, entries.begin() + mid, entries.begin() + end, [&](const Entry& a, const Entry& b) {
-      return a.bounds.bounds.center()[axis] < b.bounds.bounds.center()[axis];
+      return a.box.center()[axis] < b.box.center()[axis];
     });
   }
   CHECK(depth < kMaxDepth);
-  build(entries, begin, mid, trail, depth + 1);
-  uint32_t second = build(entries, mid, end, trail | (uint64_t(1) << depth), depth + 1);
+  uint32_t second = node + 2 * uint32_t(mid - begin);
   nodes_[node].index = second;
-  return node;
+  int depth_first = 0, depth_second = 0;
+  auto first = [&] { depth_first = build(entries, begin, mid, node + 1, trail, depth + 1); };
+  auto other = [&] { depth_second = build(entries, mid, end, second, trail | (uint64_t(1) << depth), depth + 1); };
+  if (end - begin > kParallelGrain) tbb::parallel_invoke(first, other);
+  else { first(); other(); }
+  return std::max(depth_first, depth_second);
 }
 
 float LightTreeSampler::infinite_probability() const {
@@ -228,13 +231,23 @@ float LightTreeSampler::pmf(const ShadingContext& ctx, uint32_t index) const {
   return pmf;
 }
 
-// Leaves take their lights' new bounds; interior nodes (which precede their children) are merged
-// from the back of the array to the front.
 void LightTreeSampler::refit(const LightList& lights) {
-  for (size_t n = nodes_.size(); n-- > 0;) {
-    Node& node = nodes_[n];
-    node.bounds = node.leaf ? light_bounds(lights, node.index) : merge(nodes_[n + 1].bounds, nodes_[node.index].bounds);
+  if (!nodes_.empty()) refit(lights, 0, uint32_t(nodes_.size()));
+}
+
+// Leaves take their lights' new bounds, interior nodes the merge of their children's; the subtree of
+// `node` occupies nodes [node, end).
+void LightTreeSampler::refit(const LightList& lights, uint32_t node, uint32_t end) {
+  Node& n = nodes_[node];
+  if (n.leaf) {
+    n.bounds = light_bounds(lights, n.index);
+    return;
   }
+  auto first = [&] { refit(lights, node + 1, n.index); };
+  auto other = [&] { refit(lights, n.index, end); };
+  if (end - node > kParallelGrain) tbb::parallel_invoke(first, other);
+  else { first(); other(); }
+  n.bounds = merge(nodes_[node + 1].bounds, nodes_[n.index].bounds);
 }
 
 ExhaustiveLightSampler::ExhaustiveLightSampler(const LightList& lights) {

@@ -14,12 +14,14 @@ namespace candela {
 
 class LightTreeSampler {
  public:
-  // Builds with a binned surface-area-orientation heuristic (12 buckets per axis). O(n log n).
+  // Builds with a binned surface-area-orientation heuristic (12 buckets per axis), subtrees in parallel.
+  // O(n log n); the tree does not depend on the thread count.
   explicit LightTreeSampler(const LightList& lights);
 
   SampledLight sample(const ShadingContext& ctx, vec2 u) const;
   float pmf(const ShadingContext& ctx, uint32_t index) const;
-  // Recomputes every node's bounds from the lights' current geometry and power (same topology). O(n).
+  // Recomputes every node's bounds from the lights' current geometry and power (same topology), subtrees
+  // in parallel. O(n).
   void refit(const LightList& lights);
 
   size_t node_count() const { return nodes_.size(); }
@@ -34,8 +36,11 @@ class LightTreeSampler {
   struct Entry {
     uint32_t light;
     LightBounds bounds;
+    Bounds3 box;
   };
-  uint32_t build(std::vector<Entry>& entries, size_t begin, size_t end, uint64_t trail, int depth);
+  // Subtree over entries [begin, end) at nodes [node, node + 2 (end - begin) - 1); returns its depth.
+  int build(std::vector<Entry>& entries, size_t begin, size_t end, uint32_t node, uint64_t trail, int depth);
+  void refit(const LightList& lights, uint32_t node, uint32_t end);
   // Probability of stepping to the first child of interior node `node` for the shading point.
   float first_child_probability(const Node& node, const ShadingContext& ctx) const;
   float infinite_probability() const;
