@@ -78,16 +78,33 @@ float saoh_cost(const BoundsAccumulator& a, float regularization) {
 
 }  // namespace
 
+InfiniteLightChoice::InfiniteLightChoice(std::vector<uint32_t> indices, bool has_finite) : indices_(std::move(indices)) {
+  std::sort(indices_.begin(), indices_.end());
+  if (!indices_.empty()) probability_ = has_finite ? float(indices_.size()) / float(indices_.size() + 1) : 1.0f;
+}
+
+bool InfiniteLightChoice::choose(double& u, SampledLight& out) const {
+  if (u < probability_) {
+    size_t k = std::min(size_t(u / probability_ * double(indices_.size())), indices_.size() - 1);
+    out = {indices_[k], pmf_each()};
+    return true;
+  }
+  u = std::min((u - probability_) / (1.0 - probability_), 1.0 - 0x1p-53);
+  return false;
+}
+
 LightTreeSampler::LightTreeSampler(const LightList& lights) {
   std::vector<Entry> entries;
+  std::vector<uint32_t> infinite;
   trail_.assign(lights.size(), 0);
   leaf_of_.assign(lights.size(), kNoLeaf);
   for (uint32_t i = 0; i < lights.size(); ++i) {
-    if (is_infinite_light(lights, i)) { infinite_.push_back(i); continue; }
+    if (is_infinite_light(lights, i)) { infinite.push_back(i); continue; }
     Bounds3 box;
     LightBounds b = light_bounds(lights, i, &box);
     if (b.phi > 0.0f) entries.push_back({i, b, box});
   }
+  infinite_ = InfiniteLightChoice(std::move(infinite), !entries.empty());
   if (!entries.empty()) {
     nodes_.resize(2 * entries.size() - 1);
     max_depth_ = build(entries, 0, entries.size(), 0, 0, 0);
@@ -164,11 +181,6 @@ int LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t en
   return std::max(depth_first, depth_second);
 }
 
-float LightTreeSampler::infinite_probability() const {
-  if (infinite_.empty()) return 0.0f;
-  return nodes_.empty() ? 1.0f : float(infinite_.size()) / float(infinite_.size() + 1);
-}
-
 // A node's bounds are looser than its children's, so both children may have zero importance where the
 // parent had some: then the choice follows power, so that no path is a dead end and pmf sums to 1.
 float LightTreeSampler::first_child_probability(const Node& node, const ShadingContext& ctx) const {
@@ -183,14 +195,10 @@ float LightTreeSampler::first_child_probability(const Node& node, const ShadingC
 // the 48-bit uniform is rescaled into the chosen interval so that it serves the next level too.
 SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const {
   double u = wide_uniform(u2);
-  float p_inf = infinite_probability();
-  if (u < p_inf) {
-    size_t k = std::min(size_t(u / p_inf * infinite_.size()), infinite_.size() - 1);
-    return {infinite_[k], p_inf / float(infinite_.size())};
-  }
+  SampledLight chosen;
+  if (infinite_.choose(u, chosen)) return chosen;
   if (nodes_.empty() || nodes_[0].bounds.importance(ctx.position, ctx.normal) <= 0.0f) return {};
-  u = std::min((u - p_inf) / (1.0 - p_inf), 1.0 - 0x1p-53);
-  float pmf = 1.0f - p_inf;
+  float pmf = 1.0f - infinite_.probability();
   const Node* node = &nodes_[0];
   while (!node->leaf) {
     float p0 = first_child_probability(*node, ctx);
@@ -209,13 +217,9 @@ SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const 
 
 // Retraces the path to the light's leaf with its bit trail, multiplying the same probabilities.
 float LightTreeSampler::pmf(const ShadingContext& ctx, uint32_t index) const {
-  float p_inf = infinite_probability();
-  if (leaf_of_[index] == kNoLeaf) {
-    bool infinite = std::find(infinite_.begin(), infinite_.end(), index) != infinite_.end();
-    return infinite ? p_inf / float(infinite_.size()) : 0.0f;
-  }
+  if (leaf_of_[index] == kNoLeaf) return infinite_.contains(index) ? infinite_.pmf_each() : 0.0f;
   if (nodes_[0].bounds.importance(ctx.position, ctx.normal) <= 0.0f) return 0.0f;
-  float pmf = 1.0f - p_inf;
+  float pmf = 1.0f - infinite_.probability();
   const Node* node = &nodes_[0];
   uint64_t trail = trail_[index];
   for (int depth = 0; !node->leaf; ++depth) {
@@ -252,26 +256,20 @@ void LightTreeSampler::refit(const LightList& lights, uint32_t node, uint32_t en
 
 ExhaustiveLightSampler::ExhaustiveLightSampler(const LightList& lights) {
   bounds_.resize(lights.size());
-  is_infinite_.assign(lights.size(), 0);
+  std::vector<uint32_t> infinite;
+  bool has_finite = false;
   for (uint32_t i = 0; i < lights.size(); ++i) {
-    if (is_infinite_light(lights, i)) { infinite_.push_back(i); is_infinite_[i] = 1; continue; }
+    if (is_infinite_light(lights, i)) { infinite.push_back(i); continue; }
     bounds_[i] = light_bounds(lights, i);
+    has_finite = has_finite || bounds_[i].phi > 0.0f;
   }
-}
-
-float ExhaustiveLightSampler::infinite_probability() const {
-  if (infinite_.empty()) return 0.0f;
-  return float(infinite_.size()) / float(infinite_.size() + 1);
+  infinite_ = InfiniteLightChoice(std::move(infinite), has_finite);
 }
 
 SampledLight ExhaustiveLightSampler::sample(const ShadingContext& ctx, vec2 u2) const {
   double u = wide_uniform(u2);
-  float p_inf = infinite_probability();
-  if (u < p_inf) {
-    size_t k = std::min(size_t(u / p_inf * infinite_.size()), infinite_.size() - 1);
-    return {infinite_[k], p_inf / float(infinite_.size())};
-  }
-  u = (u - p_inf) / (1.0 - p_inf);
+  SampledLight chosen;
+  if (infinite_.choose(u, chosen)) return chosen;
   double total = 0.0;
   for (const LightBounds& b : bounds_) total += b.importance(ctx.position, ctx.normal);
   if (total <= 0.0) return {};
@@ -288,12 +286,11 @@ SampledLight ExhaustiveLightSampler::sample(const ShadingContext& ctx, vec2 u2) 
 }
 
 float ExhaustiveLightSampler::pmf(const ShadingContext& ctx, uint32_t index) const {
-  float p_inf = infinite_probability();
-  if (is_infinite_[index]) return p_inf / float(infinite_.size());
+  if (infinite_.contains(index)) return infinite_.pmf_each();
   double total = 0.0;
   for (const LightBounds& b : bounds_) total += b.importance(ctx.position, ctx.normal);
   if (total <= 0.0) return 0.0f;
-  return float((1.0 - p_inf) * bounds_[index].importance(ctx.position, ctx.normal) / total);
+  return float((1.0 - infinite_.probability()) * bounds_[index].importance(ctx.position, ctx.normal) / total);
 }
 
 }  // namespace candela

@@ -4,6 +4,7 @@
 // from the root choosing a child with probability proportional to its importance for the shading point;
 // pmf() retraces the same path with the light's bit trail. Lights at infinity (directional) are chosen
 // uniformly with a separate probability. refit() follows lights that move or change power.
+#include <algorithm>
 #include <vector>
 
 #include "engine/light_sampler.h"
@@ -11,6 +12,23 @@
 #include "samplers/light_bounds.h"
 
 namespace candela {
+
+// Lights at infinity (directional) beside the finite ones: each is chosen with probability 1 / (n + 1)
+// and the finite lights together with 1 / (n + 1) (as pbrt-v4 does); all of it when nothing is finite.
+class InfiniteLightChoice {
+ public:
+  InfiniteLightChoice() = default;
+  InfiniteLightChoice(std::vector<uint32_t> indices, bool has_finite);
+  float probability() const { return probability_; }  // of choosing one of the infinite lights
+  bool contains(uint32_t index) const { return std::binary_search(indices_.begin(), indices_.end(), index); }
+  float pmf_each() const { return indices_.empty() ? 0.0f : probability_ / float(indices_.size()); }
+  // Picks an infinite light if u (in [0,1)) falls on one; otherwise rescales u into [0,1) for the finite lights.
+  bool choose(double& u, SampledLight& out) const;
+
+ private:
+  std::vector<uint32_t> indices_;  // sorted
+  float probability_ = 0.0f;
+};
 
 class LightTreeSampler {
  public:
@@ -43,12 +61,11 @@ class LightTreeSampler {
   void refit(const LightList& lights, uint32_t node, uint32_t end);
   // Probability of stepping to the first child of interior node `node` for the shading point.
   float first_child_probability(const Node& node, const ShadingContext& ctx) const;
-  float infinite_probability() const;
 
   std::vector<Node> nodes_;
-  std::vector<uint32_t> infinite_;    // directional lights
+  InfiniteLightChoice infinite_;
   std::vector<uint64_t> trail_;       // per light: the child taken at each level, bit d for depth d
-  std::vector<uint32_t> leaf_of_;     // per light: its leaf node (kNoLeaf for infinite lights)
+  std::vector<uint32_t> leaf_of_;     // per light: its leaf node (none for infinite and powerless lights)
   int max_depth_ = 0;
 };
 
@@ -60,10 +77,8 @@ class ExhaustiveLightSampler {
   float pmf(const ShadingContext& ctx, uint32_t index) const;
 
  private:
-  float infinite_probability() const;
-  std::vector<LightBounds> bounds_;
-  std::vector<uint32_t> infinite_;
-  std::vector<uint8_t> is_infinite_;
+  std::vector<LightBounds> bounds_;  // phi = 0 for infinite lights
+  InfiniteLightChoice infinite_;
 };
 
 static_assert(LightSampler<LightTreeSampler>);

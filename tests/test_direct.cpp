@@ -7,6 +7,7 @@
 #include "engine/path_tracer.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
+#include "tests/render_helpers.h"
 
 namespace candela {
 namespace {
@@ -48,22 +49,10 @@ TEST(DirectLight, TreeNeverDropsAContributingLight) {
   EXPECT_GT(checked, 10000);
 }
 
-// Renders direct light (max depth 1) of `scene` with a sampler; returns the per-pixel means.
+// Direct light (max depth 1) of `scene` with a sampler: per-pixel means.
 template <class Sampler>
 Image render_direct(const Scene& scene, const LightList& lights, int w, int h, int spp, uint64_t seed) {
-  Tracer tracer(scene);
-  Sampler sampler(lights);
-  Camera camera(scene.default_camera(), w, h);
-  SceneView view{scene, tracer, lights, camera};
-  PathTracerParams params;
-  params.spp = spp;
-  params.max_depth = 1;
-  params.seed = seed;
-  Image sum(w, h);
-  RayCounter rays;
-  path_trace(view, sampler, params, 0, sum, rays);
-  for (vec3& p : sum.pixels) p /= float(spp);
-  return sum;
+  return testing::render_paths<Sampler>(scene, lights, w, h, spp, 1, seed);
 }
 
 class DirectLightScene : public ::testing::Test {

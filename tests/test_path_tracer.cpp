@@ -7,27 +7,14 @@
 #include "engine/builtin_scenes.h"
 #include "engine/path_tracer.h"
 #include "samplers/simple_samplers.h"
+#include "tests/render_helpers.h"
 
 namespace candela {
 namespace {
 
-// Renders `spp` paths per pixel of a w x h image and returns the per-pixel means.
 template <class Sampler = PowerLightSampler>
 Image render(const Scene& scene, int w, int h, int spp, int max_depth, uint64_t seed) {
-  Tracer tracer(scene);
-  LightList lights(scene);
-  Sampler sampler(lights);
-  Camera camera(scene.default_camera(), w, h);
-  SceneView view{scene, tracer, lights, camera};
-  PathTracerParams params;
-  params.spp = spp;
-  params.max_depth = max_depth;
-  params.seed = seed;
-  Image sum(w, h);
-  RayCounter rays;
-  path_trace(view, sampler, params, 0, sum, rays);
-  for (vec3& p : sum.pixels) p /= float(spp);
-  return sum;
+  return testing::render_paths<Sampler>(scene, w, h, spp, max_depth, seed);
 }
 
 // Inside a closed diffuse sphere of albedo a emitting Le everywhere, every point sees L = Le / (1 - a)

@@ -103,6 +103,20 @@ void check_context_sampler(const Scene& scene, int points, int samples) {
 
 TEST(Samplers, TreeFrequenciesMatchPmf) { check_context_sampler<LightTreeSampler>(make_manylights_scene(256, 7), 12, 200000); }
 TEST(Samplers, ExhaustiveFrequenciesMatchPmf) { check_context_sampler<ExhaustiveLightSampler>(make_manylights_scene(64, 7), 4, 50000); }
+// With a directional light beside the finite ones (chosen with its own probability).
+Scene manylights_with_sun() {
+  Scene s = make_manylights_scene(64, 7);
+  PunctualLight sun;
+  sun.type = PunctualType::Directional;
+  sun.direction = glm::normalize(vec3(0.3f, -1.0f, 0.2f));
+  sun.intensity = vec3(2.0f);
+  s.punctual_lights.push_back(sun);
+  return s;
+}
+TEST(Samplers, TreeFrequenciesMatchPmfWithADirectionalLight) { check_context_sampler<LightTreeSampler>(manylights_with_sun(), 4, 100000); }
+TEST(Samplers, ExhaustiveFrequenciesMatchPmfWithADirectionalLight) {
+  check_context_sampler<ExhaustiveLightSampler>(manylights_with_sun(), 2, 20000);
+}
 TEST(Samplers, TreeFrequenciesMatchPmfInTheCity) { check_context_sampler<LightTreeSampler>(make_city_scene(7), 3, 200000); }
 
 }  // namespace
