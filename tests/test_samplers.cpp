@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <map>
 
+#include "apps/scene_source.h"
 #include "engine/builtin_scenes.h"
 #include "engine/rng.h"
 #include "samplers/light_tree.h"
@@ -116,6 +117,12 @@ Scene manylights_with_sun() {
 TEST(Samplers, TreeFrequenciesMatchPmfWithADirectionalLight) { check_context_sampler<LightTreeSampler>(manylights_with_sun(), 4, 100000); }
 TEST(Samplers, ExhaustiveFrequenciesMatchPmfWithADirectionalLight) {
   check_context_sampler<ExhaustiveLightSampler>(manylights_with_sun(), 2, 20000);
+}
+// A real glTF scene: 13,902 textured emitting triangles of StainedGlassLamp (skipped without ../shared).
+TEST(Samplers, TreeFrequenciesMatchPmfInStainedGlassLamp) {
+  std::string dir = testing::shared_scenes_dir();
+  if (dir.empty()) GTEST_SKIP() << "../shared/scenes not present";
+  check_context_sampler<LightTreeSampler>(load_scene(dir + "/StainedGlassLamp/glTF-JPG-PNG/StainedGlassLamp.gltf"), 3, 200000);
 }
 TEST(Samplers, TreeFrequenciesMatchPmfInTheCity) { check_context_sampler<LightTreeSampler>(make_city_scene(7), 3, 200000); }
 
