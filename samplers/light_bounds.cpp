@@ -24,7 +24,7 @@ float LightBounds::importance(const vec3& p, const vec3& n) const {
   float dist2 = glm::dot(to_p, to_p);
   // Points close to (or inside) the bounds would get unbounded importance: clamp the distance term
   // (pbrt-v4 clamps with half the box diagonal, which is the radius here).
-  float d2 = std::max(dist2, radius);
+  float d2 = std::max({dist2, radius, 1e-20f});
   float dist = std::sqrt(dist2);
   // theta_b: half-angle of the cone from p around the bounding sphere (pi when p is inside it).
   float cos_b = -1.0f, sin_b = 0.0f;
@@ -40,7 +40,7 @@ float LightBounds::importance(const vec3& p, const vec3& n) const {
   float cos_x = cos_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
   float sin_x = sin_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
   float cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
-  if (cos_p <= cos_theta_e) return 0.0f;
+  if (cos_p < cos_theta_e) return 0.0f;
   float value = phi * cos_p / d2;
   // Receiver side: the smallest angle between n and a direction into the sphere.
   if (n != vec3(0.0f)) {
@@ -105,7 +105,9 @@ LightBounds light_bounds(const LightList& lights, size_t index, Bounds3* box) {
     } else {
       b.w = l.direction;
       b.set_cos_theta_o(std::cos(l.inner_cone));
-      b.cos_theta_e = std::cos(std::max(0.0f, l.outer_cone - l.inner_cone));
+      // A little slack: with inner == outer (legal in glTF) cos(theta_e) would round to 1 and exclude
+      // even the cone's axis from the importance's strict test.
+      b.cos_theta_e = std::cos(std::min(kPi, std::max(0.0f, l.outer_cone - l.inner_cone) + 1e-3f));
     }
   }
   b.center = local.center();

@@ -182,13 +182,18 @@ int LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t en
 }
 
 // A node's bounds are looser than its children's, so both children may have zero importance where the
-// parent had some: then the choice follows power, so that no path is a dead end and pmf sums to 1.
-float LightTreeSampler::first_child_probability(const Node& node, const ShadingContext& ctx) const {
+// parent had some: then the choice follows power (or is even), so that no path is a dead end and pmf
+// sums to 1.
+LightTreeSampler::ChildProbabilities LightTreeSampler::child_probabilities(const Node& node, const ShadingContext& ctx) const {
   const LightBounds& first = (&node + 1)->bounds;
   const LightBounds& second = nodes_[node.index].bounds;
-  float i0 = first.importance(ctx.position, ctx.normal), i1 = second.importance(ctx.position, ctx.normal);
-  if (i0 + i1 > 0.0f) return i0 / (i0 + i1);
-  return first.phi / (first.phi + second.phi);
+  double i0 = first.importance(ctx.position, ctx.normal), i1 = second.importance(ctx.position, ctx.normal);
+  if (!(i0 + i1 > 0.0) || !std::isfinite(i0 + i1)) {
+    i0 = first.phi;
+    i1 = second.phi;
+    if (!(i0 + i1 > 0.0)) i0 = i1 = 1.0;
+  }
+  return {i0 / (i0 + i1), i1 / (i0 + i1)};
 }
 
 // Stochastic descent: at each interior node, a child with probability proportional to its importance;
@@ -201,14 +206,14 @@ SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const 
   float pmf = 1.0f - infinite_.probability();
   const Node* node = &nodes_[0];
   while (!node->leaf) {
-    float p0 = first_child_probability(*node, ctx);
-    if (u < p0) {
-      u /= p0;
-      pmf *= p0;
+    ChildProbabilities p = child_probabilities(*node, ctx);
+    if (u < p.first) {
+      u /= p.first;
+      pmf *= float(p.first);
       node = node + 1;
     } else {
-      u = std::min((u - p0) / (1.0 - p0), 1.0 - 0x1p-53);
-      pmf *= 1.0f - p0;
+      u = std::min((u - p.first) / p.second, 1.0 - 0x1p-53);
+      pmf *= float(p.second);
       node = &nodes_[node->index];
     }
   }
@@ -223,12 +228,12 @@ float LightTreeSampler::pmf(const ShadingContext& ctx, uint32_t index) const {
   const Node* node = &nodes_[0];
   uint64_t trail = trail_[index];
   for (int depth = 0; !node->leaf; ++depth) {
-    float p0 = first_child_probability(*node, ctx);
+    ChildProbabilities p = child_probabilities(*node, ctx);
     if (trail & (uint64_t(1) << depth)) {
-      pmf *= 1.0f - p0;
+      pmf *= float(p.second);
       node = &nodes_[node->index];
     } else {
-      pmf *= p0;
+      pmf *= float(p.first);
       node = node + 1;
     }
   }

@@ -39,7 +39,7 @@ class LightTreeSampler {
   SampledLight sample(const ShadingContext& ctx, vec2 u) const;
   float pmf(const ShadingContext& ctx, uint32_t index) const;
   // Recomputes every node's bounds from the lights' current geometry and power (same topology), subtrees
-  // in parallel. O(n).
+  // in parallel. O(n). Lights without power when the tree was built stay out of it (pmf 0) until a rebuild.
   void refit(const LightList& lights);
 
   size_t node_count() const { return nodes_.size(); }
@@ -59,8 +59,12 @@ class LightTreeSampler {
   // Subtree over entries [begin, end) at nodes [node, node + 2 (end - begin) - 1); returns its depth.
   int build(std::vector<Entry>& entries, size_t begin, size_t end, uint32_t node, uint64_t trail, int depth);
   void refit(const LightList& lights, uint32_t node, uint32_t end);
-  // Probability of stepping to the first child of interior node `node` for the shading point.
-  float first_child_probability(const Node& node, const ShadingContext& ctx) const;
+  // Probabilities of stepping to the first and to the second child of interior node `node` (computed
+  // separately, so that neither rounds to zero when the other is near one).
+  struct ChildProbabilities {
+    double first, second;
+  };
+  ChildProbabilities child_probabilities(const Node& node, const ShadingContext& ctx) const;
 
   std::vector<Node> nodes_;
   InfiniteLightChoice infinite_;
