@@ -40,6 +40,55 @@ float cos_of_sum(float cos_a, float cos_b, float sin_b);
 LightBounds light_bounds(const LightList& lights, size_t index, Bounds3* box = nullptr);
 bool is_infinite_light(const LightList& lights, size_t index);
 
+namespace light_bounds_detail {
+inline float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
+
+// cos(max(0, a - b)) and sin(max(0, a - b)) from the sines and cosines of a and b.
+inline float cos_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
+  return cos_a > cos_b ? 1.0f : cos_a * cos_b + sin_a * sin_b;
+}
+inline float sin_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
+  return cos_a > cos_b ? 0.0f : sin_a * cos_b - cos_a * sin_b;
+}
+
+}  // namespace light_bounds_detail
+
+// Inline: the tree evaluates two siblings per level, and the compiler overlaps their independent
+// square roots and divisions when it sees both.
+inline float LightBounds::importance(const vec3& p, const vec3& n) const {
+  using namespace light_bounds_detail;
+  if (phi <= 0.0f) return 0.0f;
+  vec3 to_p = p - center;
+  float dist2 = glm::dot(to_p, to_p);
+  // Points close to (or inside) the bounds would get unbounded importance: clamp the distance term
+  // (pbrt-v4 clamps with half the box diagonal, which is the radius here).
+  float d2 = std::max({dist2, radius, 1e-20f});
+  float dist = std::sqrt(dist2);
+  // theta_b: half-angle of the cone from p around the bounding sphere (pi when p is inside it).
+  float cos_b = -1.0f, sin_b = 0.0f;
+  if (dist > radius) {
+    sin_b = radius / dist;
+    cos_b = safe_sqrt(1.0f - sin_b * sin_b);
+  }
+  vec3 dir = dist > 0.0f ? to_p / dist : vec3(0.0f, 0.0f, 1.0f);
+  // Smallest angle between an emitter's normal and a direction towards p: theta_w - theta_o - theta_b.
+  float cos_w = glm::dot(w, dir);
+  if (two_sided) cos_w = std::abs(cos_w);
+  float sin_w = safe_sqrt(1.0f - cos_w * cos_w);
+  float cos_x = cos_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
+  float sin_x = sin_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
+  float cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
+  if (cos_p < cos_theta_e) return 0.0f;
+  float value = phi * cos_p / d2;
+  // Receiver side: the smallest angle between n and a direction into the sphere.
+  if (n != vec3(0.0f)) {
+    float cos_i = std::abs(glm::dot(dir, n));
+    float sin_i = safe_sqrt(1.0f - cos_i * cos_i);
+    value *= cos_sub_clamped(sin_i, cos_i, sin_b, cos_b);
+  }
+  return std::max(value, 0.0f);
+}
+
 // Solid-angle measure of a bounding cone (Conty Estevez & Kulla 2018, eq. 1), used by the tree builder.
 float cone_measure(float cos_theta_o, float cos_theta_e);
 

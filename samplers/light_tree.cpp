@@ -185,8 +185,13 @@ int LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t en
 // parent had some: then the choice follows power (or is even), so that no path is a dead end and pmf
 // sums to 1.
 LightTreeSampler::ChildProbabilities LightTreeSampler::child_probabilities(const Node& node, const ShadingContext& ctx) const {
-  const LightBounds& first = (&node + 1)->bounds;
-  const LightBounds& second = nodes_[node.index].bounds;
+  const Node& a = *(&node + 1);
+  const Node& b = nodes_[node.index];
+  // The next level reads one of these children's far child: fetch both while this level computes.
+  if (!a.leaf) __builtin_prefetch(&nodes_[a.index]);
+  if (!b.leaf) __builtin_prefetch(&nodes_[b.index]);
+  const LightBounds& first = a.bounds;
+  const LightBounds& second = b.bounds;
   double i0 = first.importance(ctx.position, ctx.normal), i1 = second.importance(ctx.position, ctx.normal);
   if (!(i0 + i1 > 0.0) || !std::isfinite(i0 + i1)) {
     i0 = first.phi;
