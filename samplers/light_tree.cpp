@@ -128,7 +128,7 @@ int LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t en
   nodes_[node].bounds = bounds_of(all, &entries[begin], entries.data() + end);
 
   // Binned SAOH: the cheapest (axis, bucket boundary) over up to 12 buckets per axis of the centroid
-  // box (fewer for small nodes: their split costs, with a cone measure each, dominate the build).
+  // box (no more buckets than lights: a small node has few distinct splits).
   vec3 extent = all.centroids.extent();
   const int buckets = int(std::min<size_t>(kBuckets, end - begin));
   float best_cost = kInfinity;
@@ -137,7 +137,7 @@ int LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t en
     float t = (e.box.center()[axis] - all.centroids.lo[axis]) / extent[axis];
     return std::clamp(int(t * buckets), 0, buckets - 1);
   };
-  // One pass over the entries fills the buckets of all three axes (the build is memory-bound).
+  // One pass over the entries fills the buckets of all three axes.
   BoundsAccumulator buckets_of_axis[3][kBuckets];
   if (depth < 32)
     for (size_t k = begin; k < end; ++k)
