@@ -59,7 +59,7 @@ int run_render(RenderOptions& o) {
   const std::map<std::string, LightSamplerKind> samplers = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
                                                             {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
   o.settings.light_sampler = samplers.at(o.light_sampler);
-  o.settings.method = o.method == "direct" ? Method::Direct : Method::PathTrace;
+  o.settings.method = o.method == "direct" ? Method::Direct : o.method == "restir-di" ? Method::RestirDi : Method::PathTrace;
   BuiltinOptions builtin;
   builtin.light_count = o.lights;
   auto t0 = std::chrono::steady_clock::now();
@@ -116,8 +116,14 @@ int main(int argc, char** argv) {
   render->add_option("--seed", r.settings.seed, "Random seed; same seed, same image, whatever the thread count")->capture_default_str();
   render->add_option("--max-depth", r.settings.max_depth, "Path tracer bounces; 1 = direct light only")
       ->check(CLI::Range(1, 1024))->capture_default_str();
-  render->add_option("--method", r.method, "Estimator: pt (reference path tracer) or direct (direct light only: light samples and a BSDF sample combined by MIS)")
-      ->check(CLI::IsMember({"pt", "direct"}))->capture_default_str();
+  render->add_option("--method", r.method,
+                     "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF sample "
+                     "combined by MIS), restir-di (direct light by resampled importance sampling; reuse to come)")
+      ->check(CLI::IsMember({"pt", "direct", "restir-di"}))->capture_default_str();
+  render->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M)")
+      ->check(CLI::Range(1, 1024))->capture_default_str();
+  render->add_flag("--di-visibility", r.settings.di.candidate_visibility,
+                   "restir-di: trace a shadow ray to the chosen candidate before shading (drops occluded choices)");
   render->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
       ->check(CLI::IsMember({"uniform", "power", "tree", "exhaustive"}))->capture_default_str();
   render->add_option("--time-budget-ms", r.settings.time_budget_ms,

@@ -69,32 +69,53 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
     trace_gbuffer(scene_, *tracer_, camera_, prev_camera_, GBufferParams{settings_.seed, frame_index, true}, gbuffer_,
                   timer.rays());
   }
-  {
-    StageTimer timer(stats, "path_trace");
-    SceneView view{scene_, *tracer_, lights_, camera_};
-    // Sample passes of at most 4 spp (1 under a time budget), so long renders can report progress.
-    auto stage_start = std::chrono::steady_clock::now();
-    auto more = [&](int done) {
-      if (settings_.time_budget_ms <= 0.0) return done < settings_.spp;
-      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stage_start).count() <
-             settings_.time_budget_ms;
-    };
-    int done = 0;
-    while (more(done)) {
-      PathTracerParams params;
-      params.spp = settings_.time_budget_ms > 0.0 ? 1 : std::min(4, settings_.spp - done);
-      params.first_sample = accumulated_spp_;
-      params.max_depth = settings_.method == Method::Direct ? 1 : settings_.max_depth;
-      params.seed = settings_.seed;
-      std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
-      done += params.spp;
-      accumulated_spp_ += params.spp;
-      if (progress) progress(done, settings_.time_budget_ms > 0.0 ? 0 : settings_.spp);
-    }
-    stats.spp = done;
+  // The estimator, in sample passes of at most 4 spp (1 under a time budget, and 1 for ReSTIR DI, whose
+  // passes each resample anew at the G-buffer's points), so long renders can report progress.
+  SceneView view{scene_, *tracer_, lights_, camera_};
+  auto stage_start = std::chrono::steady_clock::now();
+  auto more = [&](int done) {
+    if (settings_.time_budget_ms <= 0.0) return done < settings_.spp;
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stage_start).count() <
+           settings_.time_budget_ms;
+  };
+  int done = 0;
+  while (more(done)) {
+    int pass = settings_.method == Method::RestirDi || settings_.time_budget_ms > 0.0 ? 1 : std::min(4, settings_.spp - done);
+    if (settings_.method == Method::RestirDi) restir_di_pass(view, frame_index, done, stats);
+    else path_trace_pass(view, frame_index, pass, stats);
+    done += pass;
+    accumulated_spp_ += pass;
+    if (progress) progress(done, settings_.time_budget_ms > 0.0 ? 0 : settings_.spp);
   }
+  stats.spp = done;
   stats.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
+}
+
+// Stage "path_trace": `spp` paths per pixel (max depth 1 for the direct method) added into the sum.
+void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, FrameStats& stats) {
+  StageTimer timer(stats, "path_trace");
+  PathTracerParams params;
+  params.spp = spp;
+  params.first_sample = accumulated_spp_;
+  params.max_depth = settings_.method == Method::Direct ? 1 : settings_.max_depth;
+  params.seed = settings_.seed;
+  std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
+}
+
+// Stages "di_candidates" and "di_shade": one ReSTIR DI estimate per pixel added into the sum. Each pass
+// of each frame draws its own random streams.
+void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats) {
+  DiParams params = settings_.di;
+  params.seed = settings_.seed;
+  int key = frame_index * 4096 + pass;
+  {
+    StageTimer timer(stats, "di_candidates");
+    std::visit([&](const auto& sampler) { di_initial_candidates(view, sampler, gbuffer_, params, key, reservoirs_, timer.rays()); },
+               sampler_);
+  }
+  StageTimer timer(stats, "di_shade");
+  di_shade(view, gbuffer_, reservoirs_, sum_, timer.rays());
 }
 
 Image Renderer::image() const {

@@ -13,15 +13,18 @@
 #include "engine/image.h"
 #include "engine/lights.h"
 #include "engine/scene.h"
+#include "engine/path_tracer.h"
 #include "engine/tracer.h"
+#include "restir/di.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
 
 namespace candela {
 
 // pt: the reference path tracer; direct: the same estimator stopped after one bounce (emission seen
-// plus light sampling and a BSDF sample combined by MIS at the first hit).
-enum class Method { PathTrace, Direct };
+// plus light sampling and a BSDF sample combined by MIS at the first hit); restir-di: direct light by
+// resampled importance sampling at the G-buffer's points (reuse stages to come).
+enum class Method { PathTrace, Direct, RestirDi };
 enum class LightSamplerKind { Uniform, Power, Tree, Exhaustive };
 
 struct RenderSettings {
@@ -33,6 +36,7 @@ struct RenderSettings {
   LightSamplerKind light_sampler = LightSamplerKind::Power;
   bool accumulate = true;      // progressive accumulation while camera and scene stay still
   double time_budget_ms = 0.0; // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
+  DiParams di;                 // restir-di
 };
 
 using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler, LightTreeSampler, ExhaustiveLightSampler>;
@@ -57,6 +61,8 @@ class Renderer {
 
  private:
   void update_scene(float time, const CameraDesc& camera, FrameStats& stats);
+  void path_trace_pass(const SceneView& view, int frame_index, int spp, FrameStats& stats);
+  void restir_di_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats);
 
   Scene scene_;
   RenderSettings settings_;
@@ -67,6 +73,7 @@ class Renderer {
   CameraDesc camera_desc_;
   bool has_frame_ = false;
   GBuffer gbuffer_, prev_gbuffer_;
+  std::vector<DiReservoir> reservoirs_;
   Image sum_;
   int accumulated_spp_ = 0;
 };

@@ -15,7 +15,7 @@ void GBuffer::resize(int w, int h) {
   geometric_normal.assign(n, vec3(0.0f));
   depth.assign(n, kInfinity);
   albedo.assign(n, vec3(0.0f));
-  roughness_metallic.assign(n, vec2(0.0f));
+  material.assign(n, vec3(0.0f));
   emission.assign(n, vec3(0.0f));
   instance.assign(n, kNoHit);
   prim.assign(n, kNoHit);
@@ -28,7 +28,7 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
                         const Camera& prev_camera, const Hit& hit, const vec3& dir, vec2 film, size_t i, GBuffer& g) {
   if (!hit.valid()) {
     g.position[i] = g.shading_normal[i] = g.geometric_normal[i] = g.albedo[i] = vec3(0.0f);
-    g.roughness_metallic[i] = vec2(0.0f);
+    g.material[i] = vec3(0.0f);
     g.instance[i] = g.prim[i] = kNoHit;
     g.depth[i] = kInfinity;
     g.emission[i] = scene.environment;
@@ -44,7 +44,7 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   g.geometric_normal[i] = sp.geometric_normal;
   g.depth[i] = camera.view_depth(sp.position);
   g.albedo[i] = sp.base_color;
-  g.roughness_metallic[i] = vec2(sp.roughness, sp.metallic);
+  g.material[i] = vec3(sp.roughness, sp.metallic, sp.specular);
   g.emission[i] = sp.emission;
   g.instance[i] = hit.instance;
   g.prim[i] = hit.prim;

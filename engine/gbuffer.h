@@ -3,6 +3,7 @@
 // and the stage that fills it with jittered primary rays traced in 4x4 packets.
 #include <vector>
 
+#include "engine/bsdf.h"
 #include "engine/camera.h"
 #include "engine/frame_stats.h"
 #include "engine/scene.h"
@@ -17,7 +18,7 @@ struct GBuffer {
   std::vector<vec3> geometric_normal;
   std::vector<float> depth;          // linear view depth; kInfinity where nothing was hit
   std::vector<vec3> albedo;          // base colour
-  std::vector<vec2> roughness_metallic;
+  std::vector<vec3> material;         // roughness, metallic, specular factor
   std::vector<vec3> emission;
   std::vector<uint32_t> instance;    // kNoHit where nothing was hit
   std::vector<uint32_t> prim;
@@ -26,6 +27,7 @@ struct GBuffer {
   void resize(int w, int h);
   size_t size() const { return size_t(width) * height; }
   bool hit(size_t i) const { return instance[i] != kNoHit; }
+  Bsdf bsdf(size_t i) const { return Bsdf(shading_normal[i], albedo[i], material[i].y, material[i].x, material[i].z); }
 };
 
 struct GBufferParams {

@@ -2,6 +2,7 @@
 // unbiased against a converged reference, and the better samplers have lower error at equal samples.
 #include <gtest/gtest.h>
 
+#include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
 #include "engine/image_metrics.h"
 #include "engine/path_tracer.h"
@@ -108,6 +109,28 @@ TEST_F(DirectLightScene, VarianceOrderingTreePowerUniform) {
   std::printf("relMSE at 64 spp: uniform %.3e, power %.3e, tree %.3e\n", uniform, power, tree);
   EXPECT_LT(tree, power);
   EXPECT_LT(power, uniform);
+}
+
+// ReSTIR DI's initial resampling (no reuse yet) through the frame pipeline: 256 frames of one estimate
+// per pixel, accumulated, are unbiased against the reference (4 standard errors), with and without the
+// candidate visibility test, and with power and tree candidates.
+TEST_F(DirectLightScene, RestirDiCandidatesAreUnbiased) {
+  for (auto [kind, visibility] : {std::pair{LightSamplerKind::Power, false}, std::pair{LightSamplerKind::Tree, true}}) {
+    RenderSettings settings;
+    settings.width = kW;
+    settings.height = kH;
+    settings.method = Method::RestirDi;
+    settings.light_sampler = kind;
+    settings.di.candidate_visibility = visibility;
+    settings.seed = 11;
+    Renderer renderer(*scene_, settings);
+    CameraDesc camera = scene_->default_camera();
+    for (int frame = 0; frame < 256; ++frame) renderer.render_frame(frame, 0.0f, camera);
+    ImageError e = compare_images(renderer.image(), *reference_);
+    std::printf("restir-di (%s, visibility %d): mean difference %+.5f (standard error %.5f), relMSE %.3e\n",
+                kind == LightSamplerKind::Tree ? "tree" : "power", int(visibility), e.mean_difference, e.standard_error, e.rel_mse);
+    EXPECT_LT(std::abs(e.mean_difference), 4.0 * e.standard_error);
+  }
 }
 
 }  // namespace

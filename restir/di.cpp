@@ -1,0 +1,53 @@
+#include "restir/di.h"
+
+namespace candela {
+
+DiContribution di_contribution(const SceneView& view, const GBuffer& g, size_t i, const DiSample& s) {
+  DiContribution c;
+  c.light = view.lights.sample(view.scene, s.light, g.position[i], s.uv);
+  const LightSample& ls = c.light;
+  if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return c;
+  if (glm::dot(ls.wi, g.geometric_normal[i]) <= 0.0f) return c;
+  vec3 wo = glm::normalize(view.camera.position() - g.position[i]);
+  vec3 f = g.bsdf(i).eval(wo, ls.wi) * std::abs(glm::dot(ls.wi, g.shading_normal[i]));
+  if (ls.is_delta) {
+    c.area_pdf = 1.0f;
+    c.value = f * ls.radiance;
+    return c;
+  }
+  // Solid angle to area: dw = |cos_l| / d^2 dA.
+  float geometry = std::abs(glm::dot(ls.normal, ls.wi)) / (ls.distance * ls.distance);
+  c.area_pdf = ls.pdf * geometry;
+  c.value = f * ls.radiance * geometry;
+  return c;
+}
+
+bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightSample& ls) {
+  const vec3& p = g.position[i];
+  const vec3& ng = g.geometric_normal[i];
+  Ray shadow = ls.distance >= kInfinity ? view.tracer.spawn_ray(p, ng, ls.wi)
+                                        : view.tracer.spawn_ray_to(p, ng, ls.position, ls.is_delta ? -ls.wi : ls.normal);
+  return view.tracer.occluded(shadow);
+}
+
+void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs, Image& sum,
+              RayCounter& rays) {
+  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+    uint64_t traced = 0;
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        size_t i = size_t(y) * g.width + x;
+        vec3 L = g.emission[i];
+        const DiReservoir& r = reservoirs[i];
+        if (g.hit(i) && r.W > 0.0f) {
+          DiContribution c = di_contribution(view, g, i, r.y);
+          ++traced;
+          if (max_component(c.value) > 0.0f && !di_occluded(view, g, i, c.light)) L += c.value * r.W;
+        }
+        if (is_finite(L)) sum.pixels[i] += L;
+      }
+    rays.add(traced);
+  });
+}
+
+}  // namespace candela
