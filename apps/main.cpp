@@ -31,6 +31,8 @@ struct RenderOptions {
   bool quiet = false;
   std::string method = "pt";
   std::string light_sampler = "power";
+  std::string di_reuse = "both";
+  std::string di_bias = "basic";
   RenderSettings settings;
 };
 
@@ -59,6 +61,9 @@ int run_render(RenderOptions& o) {
   const std::map<std::string, LightSamplerKind> samplers = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
                                                             {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
   o.settings.light_sampler = samplers.at(o.light_sampler);
+  o.settings.di_reuse.temporal = o.di_reuse == "temporal" || o.di_reuse == "both";
+  o.settings.di_reuse.spatial = o.di_reuse == "spatial" || o.di_reuse == "both";
+  o.settings.di_reuse.bias = o.di_bias == "none" ? DiBiasCorrection::None : DiBiasCorrection::Basic;
   o.settings.method = o.method == "direct" ? Method::Direct : o.method == "restir-di" ? Method::RestirDi : Method::PathTrace;
   BuiltinOptions builtin;
   builtin.light_count = o.lights;
@@ -123,7 +128,21 @@ int main(int argc, char** argv) {
   render->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M)")
       ->check(CLI::Range(1, 1024))->capture_default_str();
   render->add_flag("--di-visibility", r.settings.di.candidate_visibility,
-                   "restir-di: trace a shadow ray to the chosen candidate before shading (drops occluded choices)");
+                   "restir-di: trace a shadow ray to the chosen candidate before reuse (drops occluded choices; "
+                   "the basic bias correction is then no longer exactly unbiased)");
+  render->add_option("--di-reuse", r.di_reuse, "restir-di: reuse stages")
+      ->check(CLI::IsMember({"none", "temporal", "spatial", "both"}))->capture_default_str();
+  render->add_option("--di-bias", r.di_bias, "restir-di: bias correction of reuse: none (1/M) or basic (generalized balance heuristic)")
+      ->check(CLI::IsMember({"none", "basic"}))->capture_default_str();
+  render->add_option("--di-neighbours", r.settings.di_reuse.spatial_neighbours, "restir-di: spatial neighbours per pass")
+      ->check(CLI::Range(0, 31))->capture_default_str();
+  render->add_option("--di-radius", r.settings.di_reuse.spatial_radius, "restir-di: spatial reuse radius in pixels")
+      ->check(CLI::Range(1.0f, 1000.0f))->capture_default_str();
+  render->add_option("--di-spatial-passes", r.settings.di_reuse.spatial_passes, "restir-di: spatial reuse passes")
+      ->check(CLI::Range(1, 8))->capture_default_str();
+  render->add_option("--di-history-cap", r.settings.di_reuse.history_cap,
+                     "restir-di: the previous frame's reservoir counts at most this many times the current M")
+      ->check(CLI::Range(0.0f, 1000.0f))->capture_default_str();
   render->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
       ->check(CLI::IsMember({"uniform", "power", "tree", "exhaustive"}))->capture_default_str();
   render->add_option("--time-budget-ms", r.settings.time_budget_ms,

@@ -66,7 +66,7 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   update_scene(time, camera, stats);
   {
     StageTimer timer(stats, "gbuffer");
-    trace_gbuffer(scene_, *tracer_, camera_, prev_camera_, GBufferParams{settings_.seed, frame_index, true}, gbuffer_,
+    trace_gbuffer(scene_, *tracer_, camera_, prev_camera_, GBufferParams{settings_.seed, frame_index, settings_.jitter}, gbuffer_,
                   timer.rays());
   }
   // The estimator, in sample passes of at most 4 spp (1 under a time budget, and 1 for ReSTIR DI, whose
@@ -103,19 +103,37 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, 
   std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
 }
 
-// Stages "di_candidates" and "di_shade": one ReSTIR DI estimate per pixel added into the sum. Each pass
-// of each frame draws its own random streams.
+// Stages "di_candidates", "di_temporal" (first pass of a frame, once there is history), "di_spatial"
+// (per spatial pass) and "di_shade": one ReSTIR DI estimate per pixel added into the sum; the final
+// reservoirs become the next frame's history. Each pass of each frame draws its own random streams.
 void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats) {
   DiParams params = settings_.di;
   params.seed = settings_.seed;
+  DiReuseParams reuse = settings_.di_reuse;
+  reuse.seed = settings_.seed;
   int key = frame_index * 4096 + pass;
   {
     StageTimer timer(stats, "di_candidates");
     std::visit([&](const auto& sampler) { di_initial_candidates(view, sampler, gbuffer_, params, key, reservoirs_, timer.rays()); },
                sampler_);
   }
-  StageTimer timer(stats, "di_shade");
-  di_shade(view, gbuffer_, reservoirs_, sum_, timer.rays());
+  const DiDomain current{gbuffer_, camera_.position()}, previous{prev_gbuffer_, prev_camera_.position()};
+  const std::vector<DiReservoir>* result = &reservoirs_;
+  if (reuse.temporal && pass == 0 && history_.size() == gbuffer_.size()) {
+    StageTimer timer(stats, "di_temporal");
+    di_temporal_reuse(view, current, previous, *result, history_, reuse, key, temporal_);
+    result = &temporal_;
+  }
+  for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
+    StageTimer timer(stats, "di_spatial");
+    di_spatial_reuse(view, current, *result, reuse, key, k, spatial_[k % 2]);
+    result = &spatial_[k % 2];
+  }
+  {
+    StageTimer timer(stats, "di_shade");
+    di_shade(view, gbuffer_, *result, sum_, timer.rays());
+  }
+  history_ = *result;
 }
 
 Image Renderer::image() const {

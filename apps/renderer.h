@@ -16,6 +16,7 @@
 #include "engine/path_tracer.h"
 #include "engine/tracer.h"
 #include "restir/di.h"
+#include "restir/di_reuse.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
 
@@ -35,8 +36,10 @@ struct RenderSettings {
   Method method = Method::PathTrace;
   LightSamplerKind light_sampler = LightSamplerKind::Power;
   bool accumulate = true;      // progressive accumulation while camera and scene stay still
+  bool jitter = true;          // G-buffer rays through jittered positions (false: pixel centres)
   double time_budget_ms = 0.0; // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
-  DiParams di;                 // restir-di
+  DiParams di;                 // restir-di: initial candidates
+  DiReuseParams di_reuse;      // restir-di: temporal and spatial reuse
 };
 
 using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler, LightTreeSampler, ExhaustiveLightSampler>;
@@ -73,7 +76,7 @@ class Renderer {
   CameraDesc camera_desc_;
   bool has_frame_ = false;
   GBuffer gbuffer_, prev_gbuffer_;
-  std::vector<DiReservoir> reservoirs_;
+  std::vector<DiReservoir> reservoirs_, temporal_, spatial_[2], history_;
   Image sum_;
   int accumulated_spp_ = 0;
 };

@@ -2,13 +2,14 @@
 
 namespace candela {
 
-DiContribution di_contribution(const SceneView& view, const GBuffer& g, size_t i, const DiSample& s) {
+DiContribution di_contribution(const SceneView& view, const DiDomain& domain, size_t i, const DiSample& s) {
+  const GBuffer& g = domain.g;
   DiContribution c;
   c.light = view.lights.sample(view.scene, s.light, g.position[i], s.uv);
   const LightSample& ls = c.light;
   if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return c;
   if (glm::dot(ls.wi, g.geometric_normal[i]) <= 0.0f) return c;
-  vec3 wo = glm::normalize(view.camera.position() - g.position[i]);
+  vec3 wo = glm::normalize(domain.eye - g.position[i]);
   vec3 f = g.bsdf(i).eval(wo, ls.wi) * std::abs(glm::dot(ls.wi, g.shading_normal[i]));
   if (ls.is_delta) {
     c.area_pdf = 1.0f;
@@ -32,6 +33,7 @@ bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightS
 
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs, Image& sum,
               RayCounter& rays) {
+  const DiDomain domain{g, view.camera.position()};
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     uint64_t traced = 0;
     for (int y = tile.y0; y < tile.y1; ++y)
@@ -40,7 +42,7 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         vec3 L = g.emission[i];
         const DiReservoir& r = reservoirs[i];
         if (g.hit(i) && r.W > 0.0f) {
-          DiContribution c = di_contribution(view, g, i, r.y);
+          DiContribution c = di_contribution(view, domain, i, r.y);
           ++traced;
           if (max_component(c.value) > 0.0f && !di_occluded(view, g, i, c.light)) L += c.value * r.W;
         }

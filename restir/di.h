@@ -26,6 +26,13 @@ struct DiParams {
   uint64_t seed = 0;
 };
 
+// Where targets are evaluated: a frame's G-buffer and the eye it was seen from (this frame's, or the
+// previous frame's for temporal reuse).
+struct DiDomain {
+  const GBuffer& g;
+  vec3 eye;
+};
+
 // The unshadowed contribution of a light sample to a G-buffer pixel, in area measure:
 // f * L_e * |cos at the receiver| * |cos at the light| / d^2 (delta lights: f * I / d^2 * |cos|).
 struct DiContribution {
@@ -33,7 +40,7 @@ struct DiContribution {
   LightSample light;
   float area_pdf = 0.0f;  // density of the light sample over the light's area (1 for delta lights)
 };
-DiContribution di_contribution(const SceneView& view, const GBuffer& g, size_t pixel, const DiSample& s);
+DiContribution di_contribution(const SceneView& view, const DiDomain& domain, size_t pixel, const DiSample& s);
 
 // Target function p_hat: luminance of the unshadowed contribution.
 inline float di_target(const DiContribution& c) { return luminance(c.value); }
@@ -48,6 +55,7 @@ template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiParams& params, int frame,
                            std::vector<DiReservoir>& out, RayCounter& rays) {
   out.assign(g.size(), DiReservoir{});
+  const DiDomain domain{g, view.camera.position()};
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     uint64_t traced = 0;
     for (int y = tile.y0; y < tile.y1; ++y)
@@ -63,7 +71,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
           DiSample s{chosen.index, vec2(rng.next_float(), rng.next_float())};
           float u = rng.next_float();
           if (chosen.pmf <= 0.0f) continue;
-          DiContribution c = di_contribution(view, g, i, s);
+          DiContribution c = di_contribution(view, domain, i, s);
           float p_hat = di_target(c);
           if (p_hat <= 0.0f) continue;
           r.update(s, p_hat / (M * chosen.pmf * c.area_pdf), p_hat, u);
@@ -72,7 +80,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
         r.finalize();
         if (params.candidate_visibility && r.W > 0.0f) {
           ++traced;
-          if (di_occluded(view, g, i, di_contribution(view, g, i, r.y).light)) r.W = 0.0f;
+          if (di_occluded(view, g, i, di_contribution(view, domain, i, r.y).light)) r.W = 0.0f;
         }
       }
     rays.add(traced);

@@ -1,0 +1,106 @@
+#include "restir/di_reuse.h"
+
+namespace candela {
+
+namespace {
+
+// One input of a combination: a reservoir and the domain/pixel whose target function produced it.
+struct ReuseInput {
+  const DiReservoir* reservoir;
+  const DiDomain* domain;
+  size_t pixel;
+  float M;  // confidence used for this input (capped for history)
+};
+
+bool similar(const GBuffer& a, size_t i, const GBuffer& b, size_t j, const DiReuseParams& p) {
+  if (!b.hit(j)) return false;
+  if (std::abs(a.depth[i] - b.depth[j]) > p.depth_tolerance * a.depth[i]) return false;
+  return glm::dot(a.shading_normal[i], b.shading_normal[j]) >= p.normal_tolerance;
+}
+
+// Combines the inputs into one reservoir for pixel i of `receiver` (inputs[0] is the pixel's own).
+DiReservoir combine(const SceneView& view, const DiDomain& receiver, size_t i, const ReuseInput* inputs, int count,
+                    DiBiasCorrection bias, Rng& rng) {
+  DiReservoir out;
+  float M_total = 0.0f;
+  for (int k = 0; k < count; ++k) M_total += inputs[k].M;
+  for (int k = 0; k < count; ++k) {
+    const ReuseInput& in = inputs[k];
+    float u = rng.next_float();
+    out.M += in.M;
+    if (in.reservoir->W <= 0.0f) continue;
+    const DiSample& y = in.reservoir->y;
+    float p_hat_here = di_target(di_contribution(view, receiver, i, y));
+    float m = in.M / M_total;
+    if (bias == DiBiasCorrection::Basic) {
+      float numerator = 0.0f, denominator = 0.0f;
+      for (int z = 0; z < count; ++z) {
+        float p_z = z == 0 ? p_hat_here : di_target(di_contribution(view, *inputs[z].domain, inputs[z].pixel, y));
+        float term = inputs[z].M * p_z;
+        denominator += term;
+        if (z == k) numerator = term;
+      }
+      m = denominator > 0.0f ? numerator / denominator : 0.0f;
+    }
+    out.update(y, m * p_hat_here * in.reservoir->W, p_hat_here, u);
+  }
+  out.finalize();
+  return out;
+}
+
+}  // namespace
+
+void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiDomain& previous,
+                       const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
+                       const DiReuseParams& params, int frame, std::vector<DiReservoir>& out) {
+  const GBuffer& g = current.g;
+  out = reservoirs;
+  if (history.size() != g.size() || previous.g.size() != g.size()) return;
+  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        size_t i = size_t(y) * g.width + x;
+        if (!g.hit(i)) continue;
+        // Last frame's pixel under this pixel's surface point.
+        vec2 p = vec2(x + 0.5f, y + 0.5f) + g.motion[i];
+        int px = int(std::floor(p.x)), py = int(std::floor(p.y));
+        if (px < 0 || py < 0 || px >= g.width || py >= g.height) continue;
+        size_t j = size_t(py) * g.width + px;
+        if (!similar(g, i, previous.g, j, params)) continue;
+        Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
+        ReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
+                                {&history[j], &previous, j, std::min(history[j].M, params.history_cap * reservoirs[i].M)}};
+        out[i] = combine(view, current, i, inputs, 2, params.bias, rng);
+      }
+  });
+}
+
+void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
+                      const DiReuseParams& params, int frame, int pass, std::vector<DiReservoir>& out) {
+  const GBuffer& g = current.g;
+  out = in;
+  const int max_inputs = 1 + std::clamp(params.spatial_neighbours, 0, 31);
+  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+    ReuseInput inputs[32];
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        size_t i = size_t(y) * g.width + x;
+        if (!g.hit(i)) continue;
+        Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
+        int count = 0;
+        inputs[count++] = {&in[i], &current, i, in[i].M};
+        for (int k = 1; k < max_inputs; ++k) {
+          // A uniform point in the disk of the given radius (rejection-free polar mapping).
+          float r = params.spatial_radius * std::sqrt(rng.next_float()), phi = 2.0f * kPi * rng.next_float();
+          int nx = x + int(std::lround(r * std::cos(phi))), ny = y + int(std::lround(r * std::sin(phi)));
+          if (nx < 0 || ny < 0 || nx >= g.width || ny >= g.height || (nx == x && ny == y)) continue;
+          size_t j = size_t(ny) * g.width + nx;
+          if (!similar(g, i, g, j, params)) continue;
+          inputs[count++] = {&in[j], &current, j, in[j].M};
+        }
+        out[i] = combine(view, current, i, inputs, count, params.bias, rng);
+      }
+  });
+}
+
+}  // namespace candela
