@@ -183,7 +183,9 @@ TEST_F(DirectLightScene, RestirDiReuseIsUnbiasedAndHelps) {
     double mean = sum / runs, error = std::sqrt(std::max(0.0, sum2 / runs - mean * mean) / (runs - 1));
     std::printf("restir-di, %-8s: image mean %.5f vs reference %.5f (difference %+.5f, standard error %.5f), "
                 "relMSE of one frame %.3e\n", mode.name, mean, image_mean(reference), mean - image_mean(reference), error, rel_mse);
-    if (mode.bias == DiBiasCorrection::Basic) EXPECT_NEAR(mean, image_mean(reference), 4.0 * error) << mode.name;
+    if (mode.bias == DiBiasCorrection::Basic) {
+      EXPECT_NEAR(mean, image_mean(reference), 4.0 * error) << mode.name;
+    }
     rel_mse_of[k++] = rel_mse;
   }
   EXPECT_LT(rel_mse_of[1], 0.6 * rel_mse_of[0]) << "reuse must lower the error of a frame";
