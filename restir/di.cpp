@@ -2,15 +2,13 @@
 
 namespace candela {
 
-DiContribution di_contribution(const SceneView& view, const DiDomain& domain, size_t i, const DiSample& s) {
-  const GBuffer& g = domain.g;
+DiContribution di_contribution(const SceneView& view, const DiReceiver& r, const DiSample& s) {
   DiContribution c;
-  c.light = view.lights.sample(view.scene, s.light, g.position[i], s.uv);
+  c.light = view.lights.sample(view.scene, s.light, r.position, s.uv);
   const LightSample& ls = c.light;
   if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return c;
-  if (glm::dot(ls.wi, g.geometric_normal[i]) <= 0.0f) return c;
-  vec3 wo = glm::normalize(domain.eye - g.position[i]);
-  vec3 f = g.bsdf(i).eval(wo, ls.wi) * std::abs(glm::dot(ls.wi, g.shading_normal[i]));
+  if (glm::dot(ls.wi, r.geometric_normal) <= 0.0f) return c;
+  vec3 f = r.bsdf.eval(r.wo, ls.wi) * std::abs(glm::dot(ls.wi, r.shading_normal));
   if (ls.is_delta) {
     c.area_pdf = 1.0f;
     c.value = f * ls.radiance;
@@ -42,7 +40,7 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         vec3 L = g.emission[i];
         const DiReservoir& r = reservoirs[i];
         if (g.hit(i) && r.W > 0.0f) {
-          DiContribution c = di_contribution(view, domain, i, r.y);
+          DiContribution c = di_contribution(view, di_receiver(domain, i), r.y);
           ++traced;
           if (max_component(c.value) > 0.0f && !di_occluded(view, g, i, c.light)) L += c.value * r.W;
         }

@@ -33,6 +33,16 @@ struct DiDomain {
   vec3 eye;
 };
 
+// A G-buffer pixel seen as a receiver of light: built once per pixel, then evaluated against many samples.
+struct DiReceiver {
+  vec3 position, geometric_normal, shading_normal, wo;
+  Bsdf bsdf;
+};
+inline DiReceiver di_receiver(const DiDomain& domain, size_t i) {
+  const GBuffer& g = domain.g;
+  return {g.position[i], g.geometric_normal[i], g.shading_normal[i], glm::normalize(domain.eye - g.position[i]), g.bsdf(i)};
+}
+
 // The unshadowed contribution of a light sample to a G-buffer pixel, in area measure:
 // f * L_e * |cos at the receiver| * |cos at the light| / d^2 (delta lights: f * I / d^2 * |cos|).
 struct DiContribution {
@@ -40,7 +50,7 @@ struct DiContribution {
   LightSample light;
   float area_pdf = 0.0f;  // density of the light sample over the light's area (1 for delta lights)
 };
-DiContribution di_contribution(const SceneView& view, const DiDomain& domain, size_t pixel, const DiSample& s);
+DiContribution di_contribution(const SceneView& view, const DiReceiver& receiver, const DiSample& s);
 
 // Target function p_hat: luminance of the unshadowed contribution.
 inline float di_target(const DiContribution& c) { return luminance(c.value); }
@@ -64,6 +74,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
         if (!g.hit(i)) continue;
         Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
         ShadingContext ctx{g.position[i], g.shading_normal[i]};
+        const DiReceiver receiver = di_receiver(domain, i);
         DiReservoir& r = out[i];
         const float M = float(params.light_candidates);
         for (int k = 0; k < params.light_candidates; ++k) {
@@ -71,7 +82,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
           DiSample s{chosen.index, vec2(rng.next_float(), rng.next_float())};
           float u = rng.next_float();
           if (chosen.pmf <= 0.0f) continue;
-          DiContribution c = di_contribution(view, domain, i, s);
+          DiContribution c = di_contribution(view, receiver, s);
           float p_hat = di_target(c);
           if (p_hat <= 0.0f) continue;
           r.update(s, p_hat / (M * chosen.pmf * c.area_pdf), p_hat, u);
@@ -80,7 +91,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
         r.finalize();
         if (params.candidate_visibility && r.W > 0.0f) {
           ++traced;
-          if (di_occluded(view, g, i, di_contribution(view, domain, i, r.y).light)) r.W = 0.0f;
+          if (di_occluded(view, g, i, di_contribution(view, receiver, r.y).light)) r.W = 0.0f;
         }
       }
     rays.add(traced);

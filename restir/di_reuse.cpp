@@ -18,24 +18,27 @@ bool similar(const GBuffer& a, size_t i, const GBuffer& b, size_t j, const DiReu
   return glm::dot(a.shading_normal[i], b.shading_normal[j]) >= p.normal_tolerance;
 }
 
-// Combines the inputs into one reservoir for pixel i of `receiver` (inputs[0] is the pixel's own).
-DiReservoir combine(const SceneView& view, const DiDomain& receiver, size_t i, const ReuseInput* inputs, int count,
-                    DiBiasCorrection bias, Rng& rng) {
+// Combines the inputs into one reservoir for the pixel of inputs[0] (the receiver's own reservoir).
+DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, DiBiasCorrection bias, Rng& rng) {
   DiReservoir out;
   float M_total = 0.0f;
   for (int k = 0; k < count; ++k) M_total += inputs[k].M;
+  // Every input's pixel as a receiver, built once (basic mode evaluates each input's target at every sample).
+  DiReceiver receivers[32];
+  const int built = bias == DiBiasCorrection::Basic ? count : 1;
+  for (int z = 0; z < built; ++z) receivers[z] = di_receiver(*inputs[z].domain, inputs[z].pixel);
   for (int k = 0; k < count; ++k) {
     const ReuseInput& in = inputs[k];
     float u = rng.next_float();
     out.M += in.M;
     if (in.reservoir->W <= 0.0f) continue;
     const DiSample& y = in.reservoir->y;
-    float p_hat_here = di_target(di_contribution(view, receiver, i, y));
+    float p_hat_here = di_target(di_contribution(view, receivers[0], y));
     float m = in.M / M_total;
     if (bias == DiBiasCorrection::Basic) {
       float numerator = 0.0f, denominator = 0.0f;
       for (int z = 0; z < count; ++z) {
-        float p_z = z == 0 ? p_hat_here : di_target(di_contribution(view, *inputs[z].domain, inputs[z].pixel, y));
+        float p_z = z == 0 ? p_hat_here : di_target(di_contribution(view, receivers[z], y));
         float term = inputs[z].M * p_z;
         denominator += term;
         if (z == k) numerator = term;
@@ -70,7 +73,7 @@ void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiD
         Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
         ReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
                                 {&history[j], &previous, j, std::min(history[j].M, params.history_cap * reservoirs[i].M)}};
-        out[i] = combine(view, current, i, inputs, 2, params.bias, rng);
+        out[i] = combine(view, inputs, 2, params.bias, rng);
       }
   });
 }
@@ -98,7 +101,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
           if (!similar(g, i, g, j, params)) continue;
           inputs[count++] = {&in[j], &current, j, in[j].M};
         }
-        out[i] = combine(view, current, i, inputs, count, params.bias, rng);
+        out[i] = combine(view, inputs, count, params.bias, rng);
       }
   });
 }
