@@ -118,23 +118,17 @@ vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams&
 template <LightSampler S>
 void path_trace(const SceneView& view, const S& sampler, const PathTracerParams& params, int frame, Image& sum,
                 RayCounter& rays) {
-  const int w = view.camera.width();
-  for_each_tile(view.camera.width(), view.camera.height(), [&](const Tile& tile) {
+  for_each_pixel(view.camera.width(), view.camera.height(), rays, [&](size_t pixel, int x, int y) {
     uint64_t traced = 0;
-    for (int y = tile.y0; y < tile.y1; ++y) {
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        size_t pixel = size_t(y) * w + x;
-        vec3 acc(0.0f);
-        for (int s = 0; s < params.spp; ++s) {
-          Rng rng = Rng::for_key(params.seed, pixel, uint64_t(params.first_sample + s), uint64_t(frame));
-          vec2 film = vec2(x, y) + vec2(rng.next_float(), rng.next_float());
-          vec3 L = trace_path(view, sampler, params, film, rng, traced);
-          if (is_finite(L)) acc += L;
-        }
-        sum.pixels[pixel] += acc;
-      }
+    vec3 acc(0.0f);
+    for (int s = 0; s < params.spp; ++s) {
+      Rng rng = Rng::for_key(params.seed, pixel, uint64_t(params.first_sample + s), uint64_t(frame));
+      vec2 film = vec2(x, y) + vec2(rng.next_float(), rng.next_float());
+      vec3 L = trace_path(view, sampler, params, film, rng, traced);
+      if (is_finite(L)) acc += L;
     }
-    rays.add(traced);
+    sum.pixels[pixel] += acc;
+    return traced;
   });
 }
 

@@ -32,21 +32,17 @@ bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightS
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs, Image& sum,
               RayCounter& rays) {
   const DiDomain domain{g, view.camera.position()};
-  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+  for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
+    vec3 L = g.emission[i];
+    const DiReservoir& r = reservoirs[i];
     uint64_t traced = 0;
-    for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        size_t i = size_t(y) * g.width + x;
-        vec3 L = g.emission[i];
-        const DiReservoir& r = reservoirs[i];
-        if (g.hit(i) && r.W > 0.0f) {
-          DiContribution c = di_contribution(view, di_receiver(domain, i), r.y);
-          ++traced;
-          if (max_component(c.value) > 0.0f && !di_occluded(view, g, i, c.light)) L += c.value * r.W;
-        }
-        if (is_finite(L)) sum.pixels[i] += L;
-      }
-    rays.add(traced);
+    if (g.hit(i) && r.W > 0.0f) {
+      DiContribution c = di_contribution(view, di_receiver(domain, i), r.y);
+      traced = 1;
+      if (max_component(c.value) > 0.0f && !di_occluded(view, g, i, c.light)) L += c.value * r.W;
+    }
+    if (is_finite(L)) sum.pixels[i] += L;
+    return traced;
   });
 }
 

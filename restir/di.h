@@ -66,35 +66,28 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
                            std::vector<DiReservoir>& out, RayCounter& rays) {
   out.assign(g.size(), DiReservoir{});
   const DiDomain domain{g, view.camera.position()};
-  for_each_tile(g.width, g.height, [&](const Tile& tile) {
-    uint64_t traced = 0;
-    for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        size_t i = size_t(y) * g.width + x;
-        if (!g.hit(i)) continue;
-        Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
-        ShadingContext ctx{g.position[i], g.shading_normal[i]};
-        const DiReceiver receiver = di_receiver(domain, i);
-        DiReservoir& r = out[i];
-        const float M = float(params.light_candidates);
-        for (int k = 0; k < params.light_candidates; ++k) {
-          SampledLight chosen = sampler.sample(ctx, vec2(rng.next_float(), rng.next_float()));
-          DiSample s{chosen.index, vec2(rng.next_float(), rng.next_float())};
-          float u = rng.next_float();
-          if (chosen.pmf <= 0.0f) continue;
-          DiContribution c = di_contribution(view, receiver, s);
-          float p_hat = di_target(c);
-          if (p_hat <= 0.0f) continue;
-          r.update(s, p_hat / (M * chosen.pmf * c.area_pdf), p_hat, u);
-        }
-        r.M = M;
-        r.finalize();
-        if (params.candidate_visibility && r.W > 0.0f) {
-          ++traced;
-          if (di_occluded(view, g, i, di_contribution(view, receiver, r.y).light)) r.W = 0.0f;
-        }
-      }
-    rays.add(traced);
+  for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
+    if (!g.hit(i)) return 0;
+    Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
+    ShadingContext ctx{g.position[i], g.shading_normal[i]};
+    const DiReceiver receiver = di_receiver(domain, i);
+    DiReservoir& r = out[i];
+    const float M = float(params.light_candidates);
+    for (int k = 0; k < params.light_candidates; ++k) {
+      SampledLight chosen = sampler.sample(ctx, vec2(rng.next_float(), rng.next_float()));
+      DiSample s{chosen.index, vec2(rng.next_float(), rng.next_float())};
+      float u = rng.next_float();
+      if (chosen.pmf <= 0.0f) continue;
+      DiContribution c = di_contribution(view, receiver, s);
+      float p_hat = di_target(c);
+      if (p_hat <= 0.0f) continue;
+      r.update(s, p_hat / (M * chosen.pmf * c.area_pdf), p_hat, u);
+    }
+    r.M = M;
+    r.finalize();
+    if (!params.candidate_visibility || r.W <= 0.0f) return 0;
+    if (di_occluded(view, g, i, di_contribution(view, receiver, r.y).light)) r.W = 0.0f;
+    return 1;
   });
 }
 

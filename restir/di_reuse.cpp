@@ -59,22 +59,18 @@ void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiD
   const GBuffer& g = current.g;
   out = reservoirs;
   if (history.size() != g.size() || previous.g.size() != g.size()) return;
-  for_each_tile(g.width, g.height, [&](const Tile& tile) {
-    for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        size_t i = size_t(y) * g.width + x;
-        if (!g.hit(i)) continue;
-        // Last frame's pixel under this pixel's surface point.
-        vec2 p = vec2(x + 0.5f, y + 0.5f) + g.motion[i];
-        int px = int(std::floor(p.x)), py = int(std::floor(p.y));
-        if (px < 0 || py < 0 || px >= g.width || py >= g.height) continue;
-        size_t j = size_t(py) * g.width + px;
-        if (!similar(g, i, previous.g, j, params)) continue;
-        Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
-        ReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
-                                {&history[j], &previous, j, std::min(history[j].M, params.history_cap * reservoirs[i].M)}};
-        out[i] = combine(view, inputs, 2, params.bias, rng);
-      }
+  for_each_pixel(g.width, g.height, [&](size_t i, int x, int y) {
+    if (!g.hit(i)) return;
+    // Last frame's pixel under this pixel's surface point.
+    vec2 p = vec2(x + 0.5f, y + 0.5f) + g.motion[i];
+    int px = int(std::floor(p.x)), py = int(std::floor(p.y));
+    if (px < 0 || py < 0 || px >= g.width || py >= g.height) return;
+    size_t j = size_t(py) * g.width + px;
+    if (!similar(g, i, previous.g, j, params)) return;
+    Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
+    ReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
+                            {&history[j], &previous, j, std::min(history[j].M, params.history_cap * reservoirs[i].M)}};
+    out[i] = combine(view, inputs, 2, params.bias, rng);
   });
 }
 
@@ -83,26 +79,22 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   const GBuffer& g = current.g;
   out = in;
   const int max_inputs = 1 + std::clamp(params.spatial_neighbours, 0, 31);
-  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+  for_each_pixel(g.width, g.height, [&](size_t i, int x, int y) {
+    if (!g.hit(i)) return;
+    Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
     ReuseInput inputs[32];
-    for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        size_t i = size_t(y) * g.width + x;
-        if (!g.hit(i)) continue;
-        Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
-        int count = 0;
-        inputs[count++] = {&in[i], &current, i, in[i].M};
-        for (int k = 1; k < max_inputs; ++k) {
-          // A uniform point in the disk of the given radius (rejection-free polar mapping).
-          float r = params.spatial_radius * std::sqrt(rng.next_float()), phi = 2.0f * kPi * rng.next_float();
-          int nx = x + int(std::lround(r * std::cos(phi))), ny = y + int(std::lround(r * std::sin(phi)));
-          if (nx < 0 || ny < 0 || nx >= g.width || ny >= g.height || (nx == x && ny == y)) continue;
-          size_t j = size_t(ny) * g.width + nx;
-          if (!similar(g, i, g, j, params)) continue;
-          inputs[count++] = {&in[j], &current, j, in[j].M};
-        }
-        out[i] = combine(view, inputs, count, params.bias, rng);
-      }
+    int count = 0;
+    inputs[count++] = {&in[i], &current, i, in[i].M};
+    for (int k = 1; k < max_inputs; ++k) {
+      // A uniform point in the disk of the given radius (rejection-free polar mapping).
+      float r = params.spatial_radius * std::sqrt(rng.next_float()), phi = 2.0f * kPi * rng.next_float();
+      int nx = x + int(std::lround(r * std::cos(phi))), ny = y + int(std::lround(r * std::sin(phi)));
+      if (nx < 0 || ny < 0 || nx >= g.width || ny >= g.height || (nx == x && ny == y)) continue;
+      size_t j = size_t(ny) * g.width + nx;
+      if (!similar(g, i, g, j, params)) continue;
+      inputs[count++] = {&in[j], &current, j, in[j].M};
+    }
+    out[i] = combine(view, inputs, count, params.bias, rng);
   });
 }
 
