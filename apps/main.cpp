@@ -63,7 +63,9 @@ int run_render(RenderOptions& o) {
   o.settings.light_sampler = samplers.at(o.light_sampler);
   o.settings.di_reuse.temporal = o.di_reuse == "temporal" || o.di_reuse == "both";
   o.settings.di_reuse.spatial = o.di_reuse == "spatial" || o.di_reuse == "both";
-  o.settings.di_reuse.bias = o.di_bias == "none" ? DiBiasCorrection::None : DiBiasCorrection::Basic;
+  o.settings.di_reuse.bias = o.di_bias == "none"    ? DiBiasCorrection::None
+                             : o.di_bias == "basic" ? DiBiasCorrection::Basic
+                                                    : DiBiasCorrection::Pairwise;
   o.settings.method = o.method == "direct" ? Method::Direct : o.method == "restir-di" ? Method::RestirDi : Method::PathTrace;
   BuiltinOptions builtin;
   builtin.light_count = o.lights;
@@ -132,8 +134,10 @@ int main(int argc, char** argv) {
                    "the basic bias correction is then no longer exactly unbiased)");
   render->add_option("--di-reuse", r.di_reuse, "restir-di: reuse stages")
       ->check(CLI::IsMember({"none", "temporal", "spatial", "both"}))->capture_default_str();
-  render->add_option("--di-bias", r.di_bias, "restir-di: bias correction of reuse: none (1/M) or basic (generalized balance heuristic)")
-      ->check(CLI::IsMember({"none", "basic"}))->capture_default_str();
+  render->add_option("--di-bias", r.di_bias,
+                     "restir-di: bias correction of reuse: none (1/M), basic (generalized balance heuristic, k^2 target "
+                     "evaluations) or pairwise (pairwise MIS, k evaluations)")
+      ->check(CLI::IsMember({"none", "basic", "pairwise"}))->capture_default_str();
   render->add_option("--di-neighbours", r.settings.di_reuse.spatial_neighbours, "restir-di: spatial neighbours per pass")
       ->check(CLI::Range(0, 31))->capture_default_str();
   render->add_option("--di-radius", r.settings.di_reuse.spatial_radius, "restir-di: spatial reuse radius in pixels")

@@ -18,14 +18,50 @@ bool similar(const GBuffer& a, size_t i, const GBuffer& b, size_t j, const DiReu
   return glm::dot(a.shading_normal[i], b.shading_normal[j]) >= p.normal_tolerance;
 }
 
+// Generalized balance heuristic: m_k(y) = M_k p_k(y) / sum_z M_z p_z(y). Evaluates every input's target.
+float basic_weight(const SceneView& view, const ReuseInput* inputs, const DiReceiver* receivers, int count, int k,
+                   const DiSample& y, float p_hat_here) {
+  float numerator = 0.0f, denominator = 0.0f;
+  for (int z = 0; z < count; ++z) {
+    float term = inputs[z].M * (z == 0 ? p_hat_here : di_target(di_contribution(view, receivers[z], y)));
+    denominator += term;
+    if (z == k) numerator = term;
+  }
+  return denominator > 0.0f ? numerator / denominator : 0.0f;
+}
+
+// Pairwise MIS (Bitterli 2022, "Correlations and Reuse for Fast and Accurate Physically Based Light
+// Transport", ch. 9; Lin et al. 2022): the canonical input c = 0 is paired with each of the n others,
+// each pair splits a 1/n share by a two-technique balance heuristic in which the canonical counts M_c / n:
+//   m_i(y) = (1/n) M_i p_i(y) / (M_i p_i(y) + (M_c/n) p_c(y))                       (i > 0)
+//   m_c(y) = (1/n) sum_i (M_c/n) p_c(y) / (M_i p_i(y) + (M_c/n) p_c(y))
+// The weights sum to one wherever p_c > 0, so the combination stays unbiased, at O(n) target
+// evaluations instead of O(n^2). p_i(y_i) is the value stored in input i's reservoir.
+float pairwise_weight(const SceneView& view, const ReuseInput* inputs, const DiReceiver* receivers, int count, int k,
+                      const DiSample& y, float p_hat_here) {
+  const int n = count - 1;
+  if (n == 0) return 1.0f;
+  const float canonical = inputs[0].M / float(n) * p_hat_here;
+  if (k > 0) {
+    float term = inputs[k].M * inputs[k].reservoir->p_hat_y;
+    return term + canonical > 0.0f ? term / (term + canonical) / float(n) : 0.0f;
+  }
+  float m = 0.0f;
+  for (int i = 1; i < count; ++i) {
+    float term = inputs[i].M * di_target(di_contribution(view, receivers[i], y));
+    m += term + canonical > 0.0f ? canonical / (term + canonical) : 1.0f;
+  }
+  return m / float(n);
+}
+
 // Combines the inputs into one reservoir for the pixel of inputs[0] (the receiver's own reservoir).
 DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, DiBiasCorrection bias, Rng& rng) {
   DiReservoir out;
   float M_total = 0.0f;
   for (int k = 0; k < count; ++k) M_total += inputs[k].M;
-  // Every input's pixel as a receiver, built once (basic mode evaluates each input's target at every sample).
+  // Every input's pixel as a receiver, built once (the MIS weights evaluate other inputs' targets).
   DiReceiver receivers[32];
-  const int built = bias == DiBiasCorrection::Basic ? count : 1;
+  const int built = bias == DiBiasCorrection::None ? 1 : count;
   for (int z = 0; z < built; ++z) receivers[z] = di_receiver(*inputs[z].domain, inputs[z].pixel);
   for (int k = 0; k < count; ++k) {
     const ReuseInput& in = inputs[k];
@@ -35,16 +71,8 @@ DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, 
     const DiSample& y = in.reservoir->y;
     float p_hat_here = di_target(di_contribution(view, receivers[0], y));
     float m = in.M / M_total;
-    if (bias == DiBiasCorrection::Basic) {
-      float numerator = 0.0f, denominator = 0.0f;
-      for (int z = 0; z < count; ++z) {
-        float p_z = z == 0 ? p_hat_here : di_target(di_contribution(view, receivers[z], y));
-        float term = inputs[z].M * p_z;
-        denominator += term;
-        if (z == k) numerator = term;
-      }
-      m = denominator > 0.0f ? numerator / denominator : 0.0f;
-    }
+    if (bias == DiBiasCorrection::Basic) m = basic_weight(view, inputs, receivers, count, k, y, p_hat_here);
+    if (bias == DiBiasCorrection::Pairwise) m = pairwise_weight(view, inputs, receivers, count, k, y, p_hat_here);
     out.update(y, m * p_hat_here * in.reservoir->W, p_hat_here, u);
   }
   out.finalize();

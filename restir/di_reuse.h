@@ -5,13 +5,15 @@
 //   none:  m_k = M_k / sum_z M_z                                (biased where the domains' targets differ)
 //   basic: m_k = M_k p_hat_k(y_k) / sum_z M_z p_hat_z(y_k)        (generalized balance heuristic, unbiased
 //          when candidates were not visibility-tested; costs k^2 target evaluations per pixel)
+//   pairwise: the pixel's own reservoir paired with each neighbour (see di_reuse.cpp); unbiased under the
+//          same condition, k target evaluations
 #include <vector>
 
 #include "restir/di.h"
 
 namespace candela {
 
-enum class DiBiasCorrection : uint8_t { None, Basic };
+enum class DiBiasCorrection : uint8_t { None, Basic, Pairwise };
 
 struct DiReuseParams {
   bool temporal = true;
