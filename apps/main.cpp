@@ -32,7 +32,8 @@ struct RenderOptions {
   std::string method = "pt";
   std::string light_sampler = "power";
   std::string di_reuse = "both";
-  std::string di_bias = "basic";
+  std::string di_bias = "pairwise";
+  std::string aov = "none";
   RenderSettings settings;
 };
 
@@ -57,6 +58,7 @@ int run_render(RenderOptions& o) {
   if (int64_t(o.settings.width) * o.settings.height > (int64_t(1) << 26))
     throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
   check_output_path(o.out, {".exr", ".png"}, "--out");
+  if (o.aov != "none" && o.method != "restir-di") throw InputError("--aov " + o.aov + ": needs --method restir-di");
   if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
   const std::map<std::string, LightSamplerKind> samplers = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
                                                             {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
@@ -97,7 +99,12 @@ int run_render(RenderOptions& o) {
     }
     all.push_back(std::move(stats));
   }
-  write_image(o.out, renderer.image(), o.exposure);
+  if (o.aov == "none") {
+    write_image(o.out, renderer.image(), o.exposure);
+  } else {
+    DiAov kind = o.aov == "reservoir-m" ? DiAov::M : o.aov == "reservoir-w" ? DiAov::W : DiAov::Light;
+    write_image(o.out, di_reservoir_image(renderer.gbuffer(), renderer.di_reservoirs(), kind), o.exposure);
+  }
   if (!o.stats.empty()) write_json_file(o.stats, stats_to_json(all));
   if (!o.quiet) std::fprintf(stderr, "wrote %s (%d spp accumulated)\n", o.out.c_str(), renderer.accumulated_spp());
   return 0;
@@ -152,6 +159,10 @@ int main(int argc, char** argv) {
   render->add_option("--time-budget-ms", r.settings.time_budget_ms,
                      "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds (overrides --spp)")
       ->check(CLI::Range(0.0, 1e9));
+  render->add_option("--aov", r.aov,
+                     "Write a debug view instead of radiance: reservoir-m (confidence M), reservoir-w (contribution "
+                     "weight W), reservoir-light (chosen light, hashed colour); restir-di only")
+      ->check(CLI::IsMember({"none", "reservoir-m", "reservoir-w", "reservoir-light"}))->capture_default_str();
   render->add_option("--stats", r.stats, "Write per-frame stage timings and ray counts as JSON");
   render->add_option("--exposure", r.exposure, "Exposure multiplier applied before tonemapping (PNG only)")
       ->check(CLI::Range(1e-6f, 1e6f))->capture_default_str();

@@ -57,6 +57,8 @@ class Renderer {
   Image image() const;
   int accumulated_spp() const { return accumulated_spp_; }
   const GBuffer& gbuffer() const { return gbuffer_; }
+  // restir-di: the reservoirs the last frame shaded with (empty for other methods).
+  const std::vector<DiReservoir>& di_reservoirs() const { return history_; }
   const Scene& scene() const { return scene_; }
   const LightList& lights() const { return lights_; }
   const Tracer& tracer() const { return *tracer_; }

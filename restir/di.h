@@ -91,6 +91,11 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
   });
 }
 
+// A debug view of reservoirs: their confidence M, their contribution weight W, or the chosen light
+// (a colour hashed from its index); black where there is no surface or no sample.
+enum class DiAov : uint8_t { M, W, Light };
+Image di_reservoir_image(const GBuffer& g, const std::vector<DiReservoir>& reservoirs, DiAov aov);
+
 // Stage "di_shade": reads the G-buffer and reservoirs, adds emission seen plus f L_e G W of each
 // pixel's sample (one shadow ray per pixel with a sample) into `sum`.
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs, Image& sum,

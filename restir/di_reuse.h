@@ -24,7 +24,7 @@ struct DiReuseParams {
   int spatial_passes = 1;
   float depth_tolerance = 0.1f;   // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
-  DiBiasCorrection bias = DiBiasCorrection::Basic;
+  DiBiasCorrection bias = DiBiasCorrection::Pairwise;
   uint64_t seed = 0;
 };
 

@@ -122,6 +122,7 @@ TEST_F(DirectLightScene, RestirDiCandidatesAreUnbiased) {
     settings.method = Method::RestirDi;
     settings.light_sampler = kind;
     settings.di.candidate_visibility = visibility;
+    settings.di_reuse.temporal = settings.di_reuse.spatial = false;
     settings.seed = 11;
     Renderer renderer(*scene_, settings);
     CameraDesc camera = scene_->default_camera();
