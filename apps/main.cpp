@@ -134,8 +134,11 @@ int main(int argc, char** argv) {
                      "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF sample "
                      "combined by MIS), restir-di (direct light by resampled importance sampling; reuse to come)")
       ->check(CLI::IsMember({"pt", "direct", "restir-di"}))->capture_default_str();
-  render->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M)")
-      ->check(CLI::Range(1, 1024))->capture_default_str();
+  render->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
+      ->check(CLI::Range(0, 1024))->capture_default_str();
+  render->add_option("--di-bsdf-candidates", r.settings.di.bsdf_candidates,
+                     "restir-di: BSDF-sampled candidates per pixel (M_b; one ray each)")
+      ->check(CLI::Range(0, 64))->capture_default_str();
   render->add_flag("--di-visibility", r.settings.di.candidate_visibility,
                    "restir-di: trace a shadow ray to the chosen candidate before reuse (drops occluded choices; "
                    "the basic bias correction is then no longer exactly unbiased)");

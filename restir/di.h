@@ -21,7 +21,8 @@ struct DiSample {
 using DiReservoir = Reservoir<DiSample>;
 
 struct DiParams {
-  int light_candidates = 8;      // M: candidates per pixel from the light sampler (cost: M light samples + M BSDF evaluations)
+  int light_candidates = 8;      // M_l: candidates per pixel from the light sampler (cost: M_l light samples + BSDF evaluations)
+  int bsdf_candidates = 1;       // M_b: candidates from BSDF sampling that hit an emitter (cost: one ray each)
   bool candidate_visibility = false;  // trace a shadow ray to the chosen candidate and drop it if occluded (1 ray per pixel)
   uint64_t seed = 0;
 };
@@ -58,9 +59,18 @@ inline float di_target(const DiContribution& c) { return luminance(c.value); }
 // Whether the shadow ray from pixel i to the light sample is blocked.
 bool di_occluded(const SceneView& view, const GBuffer& g, size_t pixel, const LightSample& light);
 
-// Stage "di_candidates": reads the G-buffer, writes one reservoir per pixel from M light candidates
-// (m_i = 1/M, W_i = 1 / (pmf * area pdf)). Cost per pixel: M light samples and BSDF evaluations, plus
-// one shadow ray with candidate_visibility.
+// The light sample (light and uniforms) that LightList::sample maps to barycentric point b of triangle
+// light `light`: the inverse of its uniform triangle mapping.
+inline DiSample di_sample_at(uint32_t light, vec2 b) {
+  float su = b.x + b.y;
+  return {light, vec2(std::min(su * su, 1.0f - 0x1p-24f), su > 0.0f ? std::min(b.y / su, 1.0f - 0x1p-24f) : 0.0f)};
+}
+
+// Stage "di_candidates": reads the G-buffer, writes one reservoir per pixel from M_l light candidates
+// and M_b BSDF candidates, combined by the balance heuristic in area measure: each candidate x gets
+// w = p_hat(x) / (M_l p_light(x) + M_b p_bsdf(x)) (Talbot et al. 2005; Bitterli et al. 2020, sec. 3).
+// Cost per pixel: M_l light samples, M_l + M_b BSDF evaluations, M_b rays, plus one shadow ray with
+// candidate_visibility.
 template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiParams& params, int frame,
                            std::vector<DiReservoir>& out, RayCounter& rays) {
@@ -72,7 +82,13 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
     ShadingContext ctx{g.position[i], g.shading_normal[i]};
     const DiReceiver receiver = di_receiver(domain, i);
     DiReservoir& r = out[i];
-    const float M = float(params.light_candidates);
+    const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
+    // Area density with which BSDF sampling reaches the sample's point (0 for delta lights).
+    auto bsdf_area_pdf = [&](const DiContribution& c) {
+      if (M_b == 0.0f || c.light.is_delta) return 0.0f;
+      float d = c.light.distance;
+      return receiver.bsdf.pdf(receiver.wo, c.light.wi) * std::abs(glm::dot(c.light.normal, c.light.wi)) / (d * d);
+    };
     for (int k = 0; k < params.light_candidates; ++k) {
       SampledLight chosen = sampler.sample(ctx, vec2(rng.next_float(), rng.next_float()));
       DiSample s{chosen.index, vec2(rng.next_float(), rng.next_float())};
@@ -81,13 +97,31 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       DiContribution c = di_contribution(view, receiver, s);
       float p_hat = di_target(c);
       if (p_hat <= 0.0f) continue;
-      r.update(s, p_hat / (M * chosen.pmf * c.area_pdf), p_hat, u);
+      r.update(s, p_hat / (M_l * chosen.pmf * c.area_pdf + M_b * bsdf_area_pdf(c)), p_hat, u);
     }
-    r.M = M;
+    uint64_t traced = 0;
+    for (int k = 0; k < params.bsdf_candidates; ++k) {
+      BsdfSample bs;
+      vec2 ub(rng.next_float(), rng.next_float());
+      float lobe = rng.next_float(), u = rng.next_float();
+      if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f) continue;
+      ++traced;
+      Hit hit = view.tracer.intersect(view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi));
+      if (!hit.valid()) continue;
+      int64_t light = view.lights.light_index(hit.instance, hit.prim);
+      if (light < 0) continue;
+      DiSample s = di_sample_at(uint32_t(light), hit.barycentric);
+      DiContribution c = di_contribution(view, receiver, s);
+      float p_hat = di_target(c);
+      if (p_hat <= 0.0f) continue;
+      float p_light = sampler.pmf(ctx, uint32_t(light)) * c.area_pdf;
+      r.update(s, p_hat / (M_l * p_light + M_b * bsdf_area_pdf(c)), p_hat, u);
+    }
+    r.M = M_l + M_b;
     r.finalize();
-    if (!params.candidate_visibility || r.W <= 0.0f) return 0;
+    if (!params.candidate_visibility || r.W <= 0.0f) return traced;
     if (di_occluded(view, g, i, di_contribution(view, receiver, r.y).light)) r.W = 0.0f;
-    return 1;
+    return traced + 1;
   });
 }
 

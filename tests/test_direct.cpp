@@ -111,25 +111,31 @@ TEST_F(DirectLightScene, VarianceOrderingTreePowerUniform) {
   EXPECT_LT(power, uniform);
 }
 
-// ReSTIR DI's initial resampling (no reuse yet) through the frame pipeline: 256 frames of one estimate
-// per pixel, accumulated, are unbiased against the reference (4 standard errors), with and without the
-// candidate visibility test, and with power and tree candidates.
+// ReSTIR DI's initial resampling (no reuse) through the frame pipeline: 256 frames of one estimate per
+// pixel, accumulated, are unbiased against the reference (4 standard errors), with and without the
+// candidate visibility test, with power and tree candidates, and with BSDF candidates weighing more.
 TEST_F(DirectLightScene, RestirDiCandidatesAreUnbiased) {
-  for (auto [kind, visibility] : {std::pair{LightSamplerKind::Power, false}, std::pair{LightSamplerKind::Tree, true}}) {
+  struct Case { LightSamplerKind kind; bool visibility; int light_candidates, bsdf_candidates; };
+  for (Case c : {Case{LightSamplerKind::Power, false, 8, 1}, Case{LightSamplerKind::Tree, true, 8, 1},
+                 Case{LightSamplerKind::Power, false, 2, 4}}) {
+    auto [kind, visibility, light_candidates, bsdf_candidates] = c;
     RenderSettings settings;
     settings.width = kW;
     settings.height = kH;
     settings.method = Method::RestirDi;
     settings.light_sampler = kind;
     settings.di.candidate_visibility = visibility;
+    settings.di.light_candidates = light_candidates;
+    settings.di.bsdf_candidates = bsdf_candidates;
     settings.di_reuse.temporal = settings.di_reuse.spatial = false;
     settings.seed = 11;
     Renderer renderer(*scene_, settings);
     CameraDesc camera = scene_->default_camera();
     for (int frame = 0; frame < 256; ++frame) renderer.render_frame(frame, 0.0f, camera);
     ImageError e = compare_images(renderer.image(), *reference_);
-    std::printf("restir-di (%s, visibility %d): mean difference %+.5f (standard error %.5f), relMSE %.3e\n",
-                kind == LightSamplerKind::Tree ? "tree" : "power", int(visibility), e.mean_difference, e.standard_error, e.rel_mse);
+    std::printf("restir-di (%s, visibility %d, %d light + %d BSDF candidates): mean difference %+.5f (standard error %.5f), "
+                "relMSE %.3e\n", kind == LightSamplerKind::Tree ? "tree" : "power", int(visibility), light_candidates,
+                bsdf_candidates, e.mean_difference, e.standard_error, e.rel_mse);
     EXPECT_LT(std::abs(e.mean_difference), 4.0 * e.standard_error);
   }
 }
