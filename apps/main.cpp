@@ -154,6 +154,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0f, 1000.0f))->capture_default_str();
   render->add_option("--di-spatial-passes", r.settings.di_reuse.spatial_passes, "restir-di: spatial reuse passes")
       ->check(CLI::Range(1, 8))->capture_default_str();
+  render->add_flag("--di-permutation", r.settings.di_reuse.permutation_sampling,
+                   "restir-di: permutation sampling of the previous frame (decorrelates frames for a denoiser)");
   render->add_option("--di-history-cap", r.settings.di_reuse.history_cap,
                      "restir-di: the previous frame's reservoir counts at most this many times the current M")
       ->check(CLI::Range(0.0f, 1000.0f))->capture_default_str();

@@ -92,6 +92,11 @@ void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiD
     // Last frame's pixel under this pixel's surface point.
     vec2 p = vec2(x + 0.5f, y + 0.5f) + g.motion[i];
     int px = int(std::floor(p.x)), py = int(std::floor(p.y));
+    if (params.permutation_sampling) {
+      uint64_t pattern = mix64(params.seed ^ uint64_t(frame));
+      px ^= int(pattern & 1);
+      py ^= int((pattern >> 1) & 1);
+    }
     if (px < 0 || py < 0 || px >= g.width || py >= g.height) return;
     size_t j = size_t(py) * g.width + px;
     if (!similar(g, i, previous.g, j, params)) return;

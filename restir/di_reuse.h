@@ -18,6 +18,9 @@ enum class DiBiasCorrection : uint8_t { None, Basic, Pairwise };
 struct DiReuseParams {
   bool temporal = true;
   float history_cap = 20.0f;      // the previous reservoir counts at most this many times the current M
+  bool permutation_sampling = false;  // reproject onto a neighbour of the previous pixel (x ^ a, y ^ b, a and b
+                                      // fixed per frame): decorrelates frames for a temporal denoiser; unbiased
+                                      // with basic/pairwise, slightly blurrier
   bool spatial = true;
   int spatial_neighbours = 5;     // per pass; each costs k + 1 target evaluations in basic mode
   float spatial_radius = 16.0f;   // pixels

@@ -168,11 +168,12 @@ TEST_F(DirectLightScene, RestirDiReuseIsUnbiasedAndHelps) {
     for (const vec3& p : img.pixels) m += (p.x + p.y + p.z) / 3.0;
     return m / img.pixels.size();
   };
-  struct Mode { const char* name; bool reuse; DiBiasCorrection bias; };
-  double rel_mse_of[4];
+  struct Mode { const char* name; bool reuse; DiBiasCorrection bias; bool permutation = false; };
+  double rel_mse_of[5];
   int k = 0;
   for (Mode mode : {Mode{"no reuse", false, DiBiasCorrection::Basic}, Mode{"basic", true, DiBiasCorrection::Basic},
-                    Mode{"pairwise", true, DiBiasCorrection::Pairwise}, Mode{"none", true, DiBiasCorrection::None}}) {
+                    Mode{"pairwise", true, DiBiasCorrection::Pairwise}, Mode{"none", true, DiBiasCorrection::None},
+                    Mode{"pairwise+permutation", true, DiBiasCorrection::Pairwise, true}}) {
     const int runs = 48, frames = 6;
     double sum = 0.0, sum2 = 0.0, rel_mse = 0.0;
     for (int run = 0; run < runs; ++run) {
@@ -180,6 +181,7 @@ TEST_F(DirectLightScene, RestirDiReuseIsUnbiasedAndHelps) {
       settings.accumulate = false;
       settings.di_reuse.temporal = settings.di_reuse.spatial = mode.reuse;
       settings.di_reuse.bias = mode.bias;
+      settings.di_reuse.permutation_sampling = mode.permutation;
       Renderer renderer(*scene_, settings);
       for (int frame = 0; frame < frames; ++frame) renderer.render_frame(frame, 0.0f, scene_->default_camera());
       Image img = renderer.image();
@@ -189,7 +191,7 @@ TEST_F(DirectLightScene, RestirDiReuseIsUnbiasedAndHelps) {
       rel_mse += compare_images(img, reference).rel_mse / runs;
     }
     double mean = sum / runs, error = std::sqrt(std::max(0.0, sum2 / runs - mean * mean) / (runs - 1));
-    std::printf("restir-di, %-8s: image mean %.5f vs reference %.5f (difference %+.5f, standard error %.5f), "
+    std::printf("restir-di, %-20s: image mean %.5f vs reference %.5f (difference %+.5f, standard error %.5f), "
                 "relMSE of one frame %.3e\n", mode.name, mean, image_mean(reference), mean - image_mean(reference), error, rel_mse);
     if (mode.bias != DiBiasCorrection::None) {
       EXPECT_NEAR(mean, image_mean(reference), 4.0 * error) << mode.name;
