@@ -15,12 +15,22 @@ double FrameStats::stage_ms(const std::string& name) const {
   return ms;
 }
 
+void FrameStats::add(const std::string& name, double ms, uint64_t rays) {
+  for (StageStats& s : stages)
+    if (s.name == name) {
+      s.ms += ms;
+      s.rays += rays;
+      return;
+    }
+  stages.push_back({name, ms, rays});
+}
+
 StageTimer::StageTimer(FrameStats& stats, std::string name)
     : stats_(stats), name_(std::move(name)), start_(std::chrono::steady_clock::now()) {}
 
 StageTimer::~StageTimer() {
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
-  stats_.stages.push_back({name_, ms, rays_.count.load()});
+  stats_.add(name_, ms, rays_.count.load());
 }
 
 }  // namespace candela

@@ -22,6 +22,8 @@ struct FrameStats {
   std::vector<StageStats> stages;
   uint64_t rays() const;
   double stage_ms(const std::string& name) const;  // 0 if the stage did not run
+  // Adds time and rays to stage `name` (a stage run several times in a frame, e.g. per sample pass, is one entry).
+  void add(const std::string& name, double ms, uint64_t rays);
 };
 
 // Thread-safe ray counter a stage's tiles add to (once per tile, not per ray).
