@@ -114,7 +114,7 @@ void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, 
   int key = frame_index * 4096 + pass;
   {
     StageTimer timer(stats, "di_candidates");
-    std::visit([&](const auto& sampler) { di_initial_candidates(view, sampler, gbuffer_, params, key, reservoirs_, timer.rays()); },
+    std::visit([&](const auto& sampler) { di_initial_candidates(view, sampler, gbuffer_, params, key, reservoirs_, di_unsampled_, timer.rays()); },
                sampler_);
   }
   const DiDomain current{gbuffer_, camera_.position()}, previous{prev_gbuffer_, prev_camera_.position()};
@@ -131,7 +131,7 @@ void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, 
   }
   {
     StageTimer timer(stats, "di_shade");
-    di_shade(view, gbuffer_, *result, sum_, timer.rays());
+    di_shade(view, gbuffer_, *result, di_unsampled_, sum_, timer.rays());
   }
   history_ = *result;
 }

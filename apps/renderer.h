@@ -79,6 +79,7 @@ class Renderer {
   bool has_frame_ = false;
   GBuffer gbuffer_, prev_gbuffer_;
   std::vector<DiReservoir> reservoirs_, temporal_, spatial_[2], history_;
+  std::vector<vec3> di_unsampled_;  // light only BSDF candidates reach (environment, unlisted emitters)
   Image sum_;
   int accumulated_spp_ = 0;
 };

@@ -29,11 +29,11 @@ bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightS
   return view.tracer.occluded(shadow);
 }
 
-void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs, Image& sum,
-              RayCounter& rays) {
+void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
+              const std::vector<vec3>& unsampled, Image& sum, RayCounter& rays) {
   const DiDomain domain{g, view.camera.position()};
   for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
-    vec3 L = g.emission[i];
+    vec3 L = g.emission[i] + unsampled[i];
     const DiReservoir& r = reservoirs[i];
     uint64_t traced = 0;
     if (g.hit(i) && r.W > 0.0f) {

@@ -69,12 +69,15 @@ inline DiSample di_sample_at(uint32_t light, vec2 b) {
 // Stage "di_candidates": reads the G-buffer, writes one reservoir per pixel from M_l light candidates
 // and M_b BSDF candidates, combined by the balance heuristic in area measure: each candidate x gets
 // w = p_hat(x) / (M_l p_light(x) + M_b p_bsdf(x)) (Talbot et al. 2005; Bitterli et al. 2020, sec. 3).
-// Cost per pixel: M_l light samples, M_l + M_b BSDF evaluations, M_b rays, plus one shadow ray with
-// candidate_visibility.
+// Light no light technique can sample (the environment, emitters below the light list's threshold)
+// reaches the pixel only through the BSDF candidates: their plain estimate of it goes to `unsampled`
+// (zero without BSDF candidates). Cost per pixel: M_l light samples, M_l + M_b BSDF evaluations, M_b
+// rays, plus one shadow ray with candidate_visibility.
 template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiParams& params, int frame,
-                           std::vector<DiReservoir>& out, RayCounter& rays) {
+                           std::vector<DiReservoir>& out, std::vector<vec3>& unsampled, RayCounter& rays) {
   out.assign(g.size(), DiReservoir{});
+  unsampled.assign(g.size(), vec3(0.0f));
   const DiDomain domain{g, view.camera.position()};
   for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
     if (!g.hit(i)) return 0;
@@ -107,9 +110,13 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f) continue;
       ++traced;
       Hit hit = view.tracer.intersect(view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi));
-      if (!hit.valid()) continue;
-      int64_t light = view.lights.light_index(hit.instance, hit.prim);
-      if (light < 0) continue;
+      int64_t light = hit.valid() ? view.lights.light_index(hit.instance, hit.prim) : -1;
+      if (light < 0) {
+        vec3 L = hit.valid() ? surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -bs.wi).emission
+                             : view.lights.environment();
+        unsampled[i] += bs.f * (std::abs(glm::dot(bs.wi, receiver.shading_normal)) / bs.pdf) * L / M_b;
+        continue;
+      }
       DiSample s = di_sample_at(uint32_t(light), hit.barycentric);
       DiContribution c = di_contribution(view, receiver, s);
       float p_hat = di_target(c);
@@ -130,9 +137,10 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
 enum class DiAov : uint8_t { M, W, Light };
 Image di_reservoir_image(const GBuffer& g, const std::vector<DiReservoir>& reservoirs, DiAov aov);
 
-// Stage "di_shade": reads the G-buffer and reservoirs, adds emission seen plus f L_e G W of each
-// pixel's sample (one shadow ray per pixel with a sample) into `sum`.
-void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs, Image& sum,
-              RayCounter& rays);
+// Stage "di_shade": reads the G-buffer, reservoirs and the unsampled light of the candidates, adds
+// emission seen plus unsampled light plus f L_e G W of each pixel's sample (one shadow ray per pixel with
+// a sample) into `sum`.
+void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
+              const std::vector<vec3>& unsampled, Image& sum, RayCounter& rays);
 
 }  // namespace candela

@@ -91,7 +91,8 @@ void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiD
     if (!g.hit(i)) return;
     // Last frame's pixel under this pixel's surface point.
     vec2 p = vec2(x + 0.5f, y + 0.5f) + g.motion[i];
-    int px = int(std::floor(p.x)), py = int(std::floor(p.y));
+    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return;
+    int px = int(p.x), py = int(p.y);
     if (params.permutation_sampling) {
       uint64_t pattern = mix64(params.seed ^ uint64_t(frame));
       px ^= int(pattern & 1);

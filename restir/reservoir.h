@@ -8,6 +8,7 @@
 // sample y gets the contribution weight W = w_sum / p_hat(y), so that f(y) W estimates the integral of f.
 // Streaming RIS over M fresh candidates is the case m_i = 1 / M (Bitterli et al. 2020, Alg. 3); combining
 // reservoirs (Alg. 4) is the case where each input reservoir is one candidate carrying its own W.
+#include <cmath>
 #include <cstdint>
 
 namespace candela {
@@ -39,8 +40,11 @@ struct Reservoir {
     return update(r.y, mis_weight * p_hat_at_receiver * r.W, p_hat_at_receiver, u);
   }
 
-  // W = w_sum / p_hat(y), or 0 when nothing with positive weight was kept.
-  void finalize() { W = p_hat_y > 0.0f ? w_sum / p_hat_y : 0.0f; }
+  // W = w_sum / p_hat(y), or 0 when nothing with positive weight was kept (or the sum overflowed).
+  void finalize() {
+    W = p_hat_y > 0.0f ? w_sum / p_hat_y : 0.0f;
+    if (!std::isfinite(W)) W = 0.0f;
+  }
 };
 
 }  // namespace candela

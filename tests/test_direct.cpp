@@ -202,9 +202,30 @@ TEST_F(DirectLightScene, RestirDiReuseIsUnbiasedAndHelps) {
   EXPECT_LT(rel_mse_of[2], 0.6 * rel_mse_of[0]) << "reuse must lower the error of a frame";
 }
 
+// Light no light sampler can pick, here a uniform environment entering the open Cornell box, reaches
+// ReSTIR DI through its BSDF candidates: 128 accumulated frames agree with the path-traced direct light
+// within 4 standard errors.
+TEST(RestirDi, EnvironmentReachesThroughBsdfCandidates) {
+  Scene scene = make_cornell_scene();
+  scene.environment = vec3(1.0f);
+  const int w = 32, h = 24;
+  Image reference = testing::render_paths<PowerLightSampler>(scene, LightList(scene), w, h, 1024, 1, 9);
+  RenderSettings settings;
+  settings.width = w;
+  settings.height = h;
+  settings.method = Method::RestirDi;
+  settings.di_reuse.temporal = settings.di_reuse.spatial = false;
+  Renderer renderer(scene, settings);
+  for (int frame = 0; frame < 128; ++frame) renderer.render_frame(frame, 0.0f, scene.default_camera());
+  ImageError e = compare_images(renderer.image(), reference);
+  std::printf("cornell with environment: mean difference %+.5f (standard error %.5f)\n", e.mean_difference, e.standard_error);
+  EXPECT_LT(std::abs(e.mean_difference), 4.0 * e.standard_error);
+}
+
 // A moving camera over the city, whose cars (lights) move too: 30 frames of ReSTIR DI with reuse give
 // finite pixels, and the last frame's image mean is within 10% of the path-traced direct light of the
-// same frame (no systematic darkening or brightening from stale history; measured here: 2.6% low).
+// same frame (no systematic darkening or brightening from stale history; measured between 2.6% low and
+// 1.7% high as the implementation changed).
 TEST(RestirDi, MovingCameraAndLightsStayFiniteAndUnbiased) {
   Scene scene = make_city_scene(7);
   CameraDesc start = scene.default_camera();
