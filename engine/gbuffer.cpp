@@ -20,6 +20,7 @@ void GBuffer::resize(int w, int h) {
   instance.assign(n, kNoHit);
   prim.assign(n, kNoHit);
   motion.assign(n, vec2(0.0f));
+  jitter.assign(n, vec2(0.5f));
 }
 
 // Writes pixel i from a primary hit: surface attributes and the motion vector, which follows the hit
@@ -88,6 +89,7 @@ void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camer
             j = vec2(rng.next_float(), rng.next_float());
           }
           film[count] = vec2(x, y) + j;
+          out.jitter[i] = j;
           dirs[count] = camera.direction(film[count].x, film[count].y);
           pixel[count] = i;
           packet.set(lane, Ray{camera.position(), dirs[count], 0.0f, kInfinity});

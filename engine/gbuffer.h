@@ -22,7 +22,8 @@ struct GBuffer {
   std::vector<vec3> emission;
   std::vector<uint32_t> instance;    // kNoHit where nothing was hit
   std::vector<uint32_t> prim;
-  std::vector<vec2> motion;          // pixels from this frame's position to last frame's
+  std::vector<vec2> motion;          // pixels from this frame's film position to last frame's
+  std::vector<vec2> jitter;          // film position of the primary ray within its pixel, in [0,1)^2
 
   void resize(int w, int h);
   size_t size() const { return size_t(width) * height; }

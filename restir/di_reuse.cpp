@@ -89,8 +89,8 @@ void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiD
   if (history.size() != g.size() || previous.g.size() != g.size()) return;
   for_each_pixel(g.width, g.height, [&](size_t i, int x, int y) {
     if (!g.hit(i)) return;
-    // Last frame's pixel under this pixel's surface point.
-    vec2 p = vec2(x + 0.5f, y + 0.5f) + g.motion[i];
+    // Last frame's pixel under this pixel's surface point (motion starts at the jittered film position).
+    vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
     if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return;
     int px = int(p.x), py = int(p.y);
     if (params.permutation_sampling) {

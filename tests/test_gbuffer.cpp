@@ -32,7 +32,7 @@ TwoFrames render_two_frames(Scene& scene, const CameraDesc& a, const CameraDesc&
 // Where pixel i's motion vector lands in the previous frame, or -1 outside the image.
 int64_t reprojected_pixel(const GBuffer& g, size_t i) {
   int x = int(i % g.width), y = int(i / g.width);
-  vec2 p = vec2(x + 0.5f, y + 0.5f) + g.motion[i];
+  vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
   int px = int(std::floor(p.x)), py = int(std::floor(p.y));
   if (px < 0 || py < 0 || px >= g.width || py >= g.height) return -1;
   return int64_t(py) * g.width + px;
