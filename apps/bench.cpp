@@ -104,9 +104,7 @@ uint64_t shadow_rays(const BenchScene& s, bool packets) {
         size_t light = std::min(size_t(rng.next_float() * light_count), light_count - 1);
         LightSample ls = s.lights->sample(s.scene, light, g.position[i], vec2(rng.next_float(), rng.next_float()));
         if (ls.distance <= 0.0f) continue;
-        Ray ray = ls.distance >= kInfinity ? s.tracer->spawn_ray(g.position[i], g.geometric_normal[i], ls.wi)
-                                           : s.tracer->spawn_ray_to(g.position[i], g.geometric_normal[i], ls.position,
-                                                                    ls.is_delta ? -ls.wi : ls.normal);
+        Ray ray = shadow_ray(*s.tracer, g.position[i], g.geometric_normal[i], ls);
         ++n;
         if (!packets) {
           benchmark::DoNotOptimize(s.tracer->occluded(ray));

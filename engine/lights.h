@@ -38,6 +38,14 @@ struct LightSample {
   bool is_delta = false;
 };
 
+// The shadow ray from surface point p (geometric normal ng) to a light sample: to its point (offset at
+// both ends; delta lights have no surface, so their end is offset along the ray) or, for lights at
+// infinity, unbounded along wi.
+inline Ray shadow_ray(const Tracer& tracer, const vec3& p, const vec3& ng, const LightSample& ls) {
+  if (ls.distance >= kInfinity) return tracer.spawn_ray(p, ng, ls.wi);
+  return tracer.spawn_ray_to(p, ng, ls.position, ls.is_delta ? -ls.wi : ls.normal);
+}
+
 // Emitted radiance above which a triangle counts as a light (linear, per channel).
 inline constexpr float kEmissionThreshold = 1e-3f;
 

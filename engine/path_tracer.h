@@ -49,11 +49,8 @@ vec3 estimate_direct_light(const SceneView& view, const S& sampler, const Surfac
   if (glm::dot(ls.wi, sp.geometric_normal) <= 0.0f) return vec3(0.0f);
   vec3 f = bsdf.eval(wo, ls.wi) * std::abs(glm::dot(ls.wi, sp.shading_normal));
   if (max_component(f) <= 0.0f) return vec3(0.0f);
-  Ray shadow = ls.distance >= kInfinity ? view.tracer.spawn_ray(sp.position, sp.geometric_normal, ls.wi)
-                                        : ls.is_delta ? view.tracer.spawn_ray_to(sp.position, sp.geometric_normal, ls.position, -ls.wi)
-                                                      : view.tracer.spawn_ray_to(sp.position, sp.geometric_normal, ls.position, ls.normal);
   ++rays;
-  if (view.tracer.occluded(shadow)) return vec3(0.0f);
+  if (view.tracer.occluded(shadow_ray(view.tracer, sp.position, sp.geometric_normal, ls))) return vec3(0.0f);
   float p_light = chosen.pmf * ls.pdf;
   float weight = ls.is_delta ? 1.0f : power_heuristic(p_light, bsdf.pdf(wo, ls.wi));
   return f * ls.radiance * (weight / p_light);

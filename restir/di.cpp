@@ -22,11 +22,7 @@ DiContribution di_contribution(const SceneView& view, const DiReceiver& r, const
 }
 
 bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightSample& ls) {
-  const vec3& p = g.position[i];
-  const vec3& ng = g.geometric_normal[i];
-  Ray shadow = ls.distance >= kInfinity ? view.tracer.spawn_ray(p, ng, ls.wi)
-                                        : view.tracer.spawn_ray_to(p, ng, ls.position, ls.is_delta ? -ls.wi : ls.normal);
-  return view.tracer.occluded(shadow);
+  return view.tracer.occluded(shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], ls));
 }
 
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
