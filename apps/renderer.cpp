@@ -19,6 +19,7 @@ Renderer::Renderer(Scene scene, const RenderSettings& settings)
       settings_(settings),
       tracer_(std::make_unique<Tracer>(scene_)),
       lights_(scene_),
+      prev_lights_(scene_.motions.empty() ? LightList() : lights_),
       sampler_(make_light_sampler(settings.light_sampler, lights_)) {
   CHECK(settings.width > 0 && settings.height > 0 && settings.spp > 0);
   sum_ = Image(settings.width, settings.height);
@@ -36,13 +37,18 @@ void Renderer::update_scene(float time, const CameraDesc& camera, FrameStats& st
   if (!scene_.motions.empty() && (time != scene_.time || !has_frame_)) {
     scene_.set_time(time);
     tracer_->update_instances(scene_);
+    // Last frame's light placement stays in prev_lights_ (temporal reuse judges history with it); the
+    // buffer swapped in is re-placed, which rewrites every light of an animated instance.
+    if (has_frame_) std::swap(lights_, prev_lights_);
     lights_.update(scene_);
     // Rigid motion keeps every light's power, so the power table stays valid; the tree and the
     // exhaustive sampler hold light positions and are refitted / rebuilt.
     if (auto* tree = std::get_if<LightTreeSampler>(&sampler_)) tree->refit(lights_);
     if (std::holds_alternative<ExhaustiveLightSampler>(sampler_)) sampler_ = ExhaustiveLightSampler(lights_);
     moved = true;
+    lights_moved_ = has_frame_;
   } else if (has_frame_) {
+    lights_moved_ = false;
     for (Instance& inst : scene_.instances) inst.prev_transform = inst.transform;
   }
   Camera next(camera, settings_.width, settings_.height);
@@ -112,16 +118,23 @@ void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, 
   DiReuseParams reuse = settings_.di_reuse;
   reuse.seed = settings_.seed;
   int key = frame_index * 4096 + pass;
+  if (pass == 0) {
+    StageTimer timer(stats, "di_surfaces");
+    std::swap(di_surfaces_, prev_di_surfaces_);
+    pack_di_surfaces(gbuffer_, di_surfaces_);
+  }
+  const DiDomain current{di_surfaces_, gbuffer_.width, gbuffer_.height, camera_.position(), lights_},
+      previous{prev_di_surfaces_, gbuffer_.width, gbuffer_.height, prev_camera_.position(), lights_moved_ ? prev_lights_ : lights_};
   {
     StageTimer timer(stats, "di_candidates");
-    std::visit([&](const auto& sampler) { di_initial_candidates(view, sampler, gbuffer_, params, key, reservoirs_, di_unsampled_, timer.rays()); },
-               sampler_);
+    std::visit([&](const auto& sampler) {
+      di_initial_candidates(view, sampler, gbuffer_, current, params, key, reservoirs_, di_unsampled_, timer.rays());
+    }, sampler_);
   }
-  const DiDomain current{gbuffer_, camera_.position()}, previous{prev_gbuffer_, prev_camera_.position()};
   const std::vector<DiReservoir>* result = &reservoirs_;
   if (reuse.temporal && pass == 0 && history_.size() == gbuffer_.size()) {
     StageTimer timer(stats, "di_temporal");
-    di_temporal_reuse(view, current, previous, *result, history_, reuse, key, temporal_);
+    di_temporal_reuse(view, gbuffer_, current, previous, *result, history_, reuse, key, temporal_);
     result = &temporal_;
   }
   for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {

@@ -73,12 +73,15 @@ class Renderer {
   RenderSettings settings_;
   std::unique_ptr<Tracer> tracer_;
   LightList lights_;
+  LightList prev_lights_;     // last frame's light placement (scenes with motion only)
+  bool lights_moved_ = false; // lights_ differs from last frame's placement
   AnyLightSampler sampler_;
   Camera camera_, prev_camera_;
   CameraDesc camera_desc_;
   bool has_frame_ = false;
   GBuffer gbuffer_, prev_gbuffer_;
   std::vector<DiReservoir> reservoirs_, temporal_, spatial_[2], history_;
+  std::vector<DiSurface> di_surfaces_, prev_di_surfaces_;  // packed G-buffer surfaces of this and last frame
   std::vector<vec3> di_unsampled_;  // light only BSDF candidates reach (environment, unlisted emitters)
   Image sum_;
   int accumulated_spp_ = 0;

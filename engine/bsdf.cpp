@@ -69,27 +69,34 @@ float Bsdf::specular_probability(float cos_o) const {
   return std::clamp(spec / (spec + diff), 0.1f, 0.9f);
 }
 
-vec3 Bsdf::eval(const vec3& wo_world, const vec3& wi_world) const {
-  vec3 wo = frame_.to_local(wo_world), wi = frame_.to_local(wi_world);
-  if (wo.z <= 0.0f || wi.z <= 0.0f) return vec3(0.0f);
-  vec3 h = glm::normalize(wo + wi);
-  vec3 F = specular_ * schlick(f0_, glm::dot(wo, h));
-  float G2 = 1.0f / (1.0f + ggx_lambda(wo.z, alpha_) + ggx_lambda(wi.z, alpha_));
-  vec3 specular = F * (ggx_d(h.z, alpha_) * G2 / (4.0f * wo.z * wi.z));
+// eval and pdf need only three cosines, no change of frame: with h = (wo + wi) / |wo + wi|,
+// n.h = (n.wo + n.wi) / |wo + wi| and wo.h = (1 + wo.wi) / |wo + wi|, |wo + wi| = sqrt(2 + 2 wo.wi).
+vec3 Bsdf::eval(const vec3& wo, const vec3& wi) const {
+  float cos_o = glm::dot(frame_.n, wo), cos_i = glm::dot(frame_.n, wi);
+  if (cos_o <= 0.0f || cos_i <= 0.0f) return vec3(0.0f);
+  float cos_oi = glm::dot(wo, wi);
+  float inv_len = 1.0f / std::sqrt(std::max(2.0f + 2.0f * cos_oi, 1e-12f));
+  vec3 F = specular_ * schlick(f0_, (1.0f + cos_oi) * inv_len);
+  // G2 / (4 cos_o cos_i) with G2 = 1 / (1 + Lambda_o + Lambda_i), written without the tangents:
+  // 1 + 2 Lambda(c) = sqrt(c^2 (1 - a^2) + a^2) / c, so the term is 1 / (2 (cos_i s_o + cos_o s_i)).
+  float a2 = alpha_ * alpha_;
+  float s_o = std::sqrt(cos_o * cos_o * (1.0f - a2) + a2), s_i = std::sqrt(cos_i * cos_i * (1.0f - a2) + a2);
+  float visibility = 0.5f / (cos_i * s_o + cos_o * s_i);
+  vec3 specular = F * (ggx_d((cos_o + cos_i) * inv_len, alpha_) * visibility);
   auto grazing = [](float c) { float m = 1.0f - 0.5f * c; return 1.0f - (m * m) * (m * m) * m; };
-  vec3 coupled = (28.0f / 23.0f) * (vec3(1.0f) - f0_) * (grazing(wo.z) * grazing(wi.z));
+  vec3 coupled = (28.0f / 23.0f) * (vec3(1.0f) - f0_) * (grazing(cos_o) * grazing(cos_i));
   return diffuse_ * kInvPi * ((1.0f - specular_) + specular_ * coupled) + specular;
 }
 
-float Bsdf::pdf(const vec3& wo_world, const vec3& wi_world) const {
-  vec3 wo = frame_.to_local(wo_world), wi = frame_.to_local(wi_world);
-  if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-  vec3 h = glm::normalize(wo + wi);
+float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
+  float cos_o = glm::dot(frame_.n, wo), cos_i = glm::dot(frame_.n, wi);
+  if (cos_o <= 0.0f || cos_i <= 0.0f) return 0.0f;
+  float cos_h = (cos_o + cos_i) / std::sqrt(std::max(2.0f + 2.0f * glm::dot(wo, wi), 1e-12f));
   // Visible-normal density mapped to wi: D_wo(h) / (4 wo.h) = G1(wo) D(h) / (4 wo.z).
-  float g1 = 1.0f / (1.0f + ggx_lambda(wo.z, alpha_));
-  float pdf_spec = g1 * ggx_d(h.z, alpha_) / (4.0f * wo.z);
-  float pdf_diff = wi.z * kInvPi;
-  float ps = specular_probability(wo.z);
+  float g1 = 1.0f / (1.0f + ggx_lambda(cos_o, alpha_));
+  float pdf_spec = g1 * ggx_d(cos_h, alpha_) / (4.0f * cos_o);
+  float pdf_diff = cos_i * kInvPi;
+  float ps = specular_probability(cos_o);
   return ps * pdf_spec + (1.0f - ps) * pdf_diff;
 }
 

@@ -74,7 +74,7 @@ LightList::LightList(const Scene& scene) : environment_(scene.environment), scen
 void LightList::place_instance(const Scene& scene, uint32_t instance) {
   const Mesh& mesh = scene.meshes[scene.instances[instance].mesh];
   const MeshEmission& me = mesh_emission_[scene.instances[instance].mesh];
-  bool two_sided = scene.materials[mesh.material].double_sided;
+  const Material& material = scene.materials[mesh.material];
   for (size_t k = 0; k < me.prims.size(); ++k) {
     WorldTriangle t = world_triangle(scene, instance, me.prims[k]);
     TriangleLight& l = triangles_[size_t(instance_first_light_[instance]) + k];
@@ -88,7 +88,8 @@ void LightList::place_instance(const Scene& scene, uint32_t instance) {
     l.average_radiance = me.average_radiance[k];
     l.instance = instance;
     l.prim = me.prims[k];
-    l.two_sided = two_sided;
+    l.two_sided = material.double_sided;
+    l.textured = material.emissive_tex.valid();
   }
 }
 
@@ -137,26 +138,27 @@ static float spot_falloff(const PunctualLight& l, float cos_angle) {
 // Triangle lights: uniform point on the area (density 1/A), converted to solid angle at p.
 // Punctual lights: the light's position or direction, a delta density reported as pdf 1.
 LightSample LightList::sample(const Scene& scene, size_t index, const vec3& p, vec2 u) const {
-  LightSample s;
-  if (index < triangles_.size()) {
-    const TriangleLight& l = triangles_[index];
-    float su = std::sqrt(u.x);
-    vec2 bary(su * (1.0f - u.y), su * u.y);
-    s.position = l.p0 + l.e1 * bary.x + l.e2 * bary.y;
-    vec3 d = s.position - p;
-    float dist2 = glm::dot(d, d);
-    if (dist2 <= 0.0f || l.area <= 0.0f) return s;
-    s.distance = std::sqrt(dist2);
-    s.wi = d / s.distance;
-    float cos_l = std::abs(glm::dot(l.normal, s.wi));
-    if (cos_l <= 1e-7f) return s;
-    s.normal = l.normal;
-    bool facing = l.two_sided || glm::dot(l.normal, s.wi) < 0.0f;
-    s.radiance = facing ? emission_at(scene, l.instance, l.prim, bary) : vec3(0.0f);
-    s.pdf = dist2 / (cos_l * l.area);
-    return s;
-  }
+  if (index >= triangles_.size()) return sample_punctual(index, p);
+  const TriangleLight& l = triangles_[index];
+  LightSample s = light_sample_towards(triangle_point(scene, index, u), p);
+  if (max_component(s.radiance) > 0.0f && l.area > 0.0f)
+    s.pdf = s.distance * s.distance / (std::abs(glm::dot(l.normal, s.wi)) * l.area);
+  else
+    s.radiance = vec3(0.0f);
+  return s;
+}
+
+LightPoint LightList::triangle_point(const Scene& scene, size_t index, vec2 u) const {
+  const TriangleLight& l = triangles_[index];
+  float su = std::sqrt(u.x);
+  vec2 bary(su * (1.0f - u.y), su * u.y);
+  return {l.p0 + l.e1 * bary.x + l.e2 * bary.y, l.normal,
+          l.textured ? emission_at(scene, l.instance, l.prim, bary) : l.average_radiance, l.two_sided};
+}
+
+LightSample LightList::sample_punctual(size_t index, const vec3& p) const {
   const PunctualLight& l = punctual_[index - triangles_.size()];
+  LightSample s;
   s.is_delta = true;
   s.pdf = 1.0f;
   if (l.type == PunctualType::Directional) {

@@ -17,6 +17,7 @@ struct TriangleLight {
   vec3 average_radiance{0.0f};// emission averaged over the triangle
   uint32_t instance = 0, prim = 0;
   bool two_sided = false;
+  bool textured = false;      // emission varies over the triangle (else it is average_radiance everywhere)
   float power() const { return luminance(average_radiance) * area * kPi * (two_sided ? 2.0f : 1.0f); }
 };
 
@@ -37,6 +38,32 @@ struct LightSample {
   float pdf = 0.0f;        // solid-angle density for area lights; 1 for delta lights
   bool is_delta = false;
 };
+
+// A point on a triangle light, independent of who looks at it: where it is, which way it faces and what it
+// emits from its emitting side(s).
+struct LightPoint {
+  vec3 position{0.0f};
+  vec3 normal{0.0f};
+  vec3 radiance{0.0f};
+  bool two_sided = false;
+};
+
+// The light sample a triangle light's point gives at shading point p, with pdf left 0 (the caller knows
+// how the point was chosen). Zero radiance when p sees its back or lies in its plane.
+inline LightSample light_sample_towards(const LightPoint& lp, const vec3& p) {
+  LightSample s;
+  s.position = lp.position;
+  vec3 d = lp.position - p;
+  float dist2 = glm::dot(d, d);
+  if (dist2 <= 0.0f) return s;
+  s.distance = std::sqrt(dist2);
+  s.wi = d / s.distance;
+  float cos_l = glm::dot(lp.normal, s.wi);
+  if (std::abs(cos_l) <= 1e-7f) return s;
+  s.normal = lp.normal;
+  if (lp.two_sided || cos_l < 0.0f) s.radiance = lp.radiance;
+  return s;
+}
 
 // The shadow ray from surface point p (geometric normal ng) to a light sample: to its point (offset at
 // both ends; delta lights have no surface, so their end is offset along the ray) or, for lights at
@@ -67,6 +94,10 @@ class LightList {
   int64_t light_index(uint32_t instance, uint32_t prim) const;
   // Samples a point on light `index` as seen from p, with u in [0,1)^2.
   LightSample sample(const Scene& scene, size_t index, const vec3& p, vec2 u) const;
+  // The point that sample() places on triangle light `index` for u (uniform over its area).
+  LightPoint triangle_point(const Scene& scene, size_t index, vec2 u) const;
+  // sample() for punctual light `index` (>= triangle_count()): its position or direction, pdf 1.
+  LightSample sample_punctual(size_t index, const vec3& p) const;
   // Solid-angle density with which sample() picks the point y (normal ny) on triangle light `index` from p.
   float pdf_solid_angle(size_t index, const vec3& p, const vec3& y) const;
 

@@ -92,6 +92,7 @@ struct Scene {
 
   Bounds3 bounds() const;
   size_t triangle_count() const;  // over instances
+  const Material& material_of(uint32_t instance) const { return materials[meshes[instances[instance].mesh].material]; }
   // Moves animated instances to time t (seconds); their previous transform becomes prev_transform.
   void set_time(float t);
   // Camera to use: the scene's own, or one framing the scene bounds.

@@ -2,21 +2,19 @@
 
 namespace candela {
 
-DiContribution di_contribution(const SceneView& view, const DiReceiver& r, const DiSample& s) {
+DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
   DiContribution c;
-  c.light = view.lights.sample(view.scene, s.light, r.position, s.uv);
+  const bool triangle = s.light < r.lights->triangle_count();
+  c.light = triangle ? light_sample_towards(s.point, r.position) : r.lights->sample_punctual(s.light, r.position);
   const LightSample& ls = c.light;
-  if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return c;
-  if (glm::dot(ls.wi, r.geometric_normal) <= 0.0f) return c;
+  if (max_component(ls.radiance) <= 0.0f || glm::dot(ls.wi, r.geometric_normal) <= 0.0f) return c;
   vec3 f = r.bsdf.eval(r.wo, ls.wi) * std::abs(glm::dot(ls.wi, r.shading_normal));
   if (ls.is_delta) {
-    c.area_pdf = 1.0f;
     c.value = f * ls.radiance;
     return c;
   }
   // Solid angle to area: dw = |cos_l| / d^2 dA.
   float geometry = std::abs(glm::dot(ls.normal, ls.wi)) / (ls.distance * ls.distance);
-  c.area_pdf = ls.pdf * geometry;
   c.value = f * ls.radiance * geometry;
   return c;
 }
@@ -27,13 +25,12 @@ bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightS
 
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
               const std::vector<vec3>& unsampled, Image& sum, RayCounter& rays) {
-  const DiDomain domain{g, view.camera.position()};
   for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
     vec3 L = g.emission[i] + unsampled[i];
     const DiReservoir& r = reservoirs[i];
     uint64_t traced = 0;
     if (g.hit(i) && r.W > 0.0f) {
-      DiContribution c = di_contribution(view, di_receiver(domain, i), r.y);
+      DiContribution c = di_contribution(di_exact_receiver(g, view.camera.position(), view.lights, i), r.y);
       traced = 1;
       if (max_component(c.value) > 0.0f && !di_occluded(view, g, i, c.light)) L += c.value * r.W;
     }

@@ -9,14 +9,18 @@
 #include "engine/gbuffer.h"
 #include "engine/image.h"
 #include "engine/path_tracer.h"
+#include "restir/di_surface.h"
 #include "restir/reservoir.h"
 
 namespace candela {
 
-// A point on a light: which light, and the uniforms LightList::sample maps to the point.
+// A point on a light: which light and the uniforms LightList::sample maps to the point (its identity,
+// valid in every frame), plus, for triangle lights, the point they give with the light placement of the
+// frame whose reservoirs hold the sample (so that targets at other pixels cost no light lookup).
 struct DiSample {
   uint32_t light = 0;
   vec2 uv{0.0f};
+  LightPoint point;
 };
 using DiReservoir = Reservoir<DiSample>;
 
@@ -27,31 +31,53 @@ struct DiParams {
   uint64_t seed = 0;
 };
 
-// Where targets are evaluated: a frame's G-buffer and the eye it was seen from (this frame's, or the
-// previous frame's for temporal reuse).
+// Where targets are evaluated: a frame's packed surfaces, the eye they were seen from and the frame's light
+// placement (this frame's, or the previous frame's for temporal reuse, so that moving lights are judged
+// where they were).
 struct DiDomain {
-  const GBuffer& g;
+  const std::vector<DiSurface>& surfaces;
+  int width, height;
   vec3 eye;
+  const LightList& lights;
 };
 
 // A G-buffer pixel seen as a receiver of light: built once per pixel, then evaluated against many samples.
 struct DiReceiver {
   vec3 position, geometric_normal, shading_normal, wo;
   Bsdf bsdf;
+  const LightList* lights;  // the light placement of the receiver's frame
 };
+// The receiver whose target function resampling uses: the packed surface of pixel i.
 inline DiReceiver di_receiver(const DiDomain& domain, size_t i) {
-  const GBuffer& g = domain.g;
-  return {g.position[i], g.geometric_normal[i], g.shading_normal[i], glm::normalize(domain.eye - g.position[i]), g.bsdf(i)};
+  const DiSurface& s = domain.surfaces[i];
+  vec3 n = s.shading_n();
+  return {s.position, s.geometric_n(), n, glm::normalize(domain.eye - s.position), s.bsdf(n), &domain.lights};
+}
+// The exact receiver of pixel i, from the G-buffer: for sampling densities and the final shading.
+inline DiReceiver di_exact_receiver(const GBuffer& g, const vec3& eye, const LightList& lights, size_t i) {
+  return {g.position[i], g.geometric_normal[i], g.shading_normal[i], glm::normalize(eye - g.position[i]), g.bsdf(i), &lights};
+}
+
+// The sample (light, uv) with its point placed by `lights` (punctual lights have no point to store).
+inline DiSample di_resolve(const Scene& scene, const LightList& lights, uint32_t light, vec2 uv) {
+  DiSample s{light, uv, {}};
+  if (light < lights.triangle_count()) s.point = lights.triangle_point(scene, light, uv);
+  return s;
+}
+
+// Density of a fresh light sample over its light's area given the light was chosen (1 for delta lights).
+inline float di_area_pdf(const LightList& lights, uint32_t light) {
+  return light < lights.triangle_count() ? 1.0f / lights.triangles()[light].area : 1.0f;
 }
 
 // The unshadowed contribution of a light sample to a G-buffer pixel, in area measure:
 // f * L_e * |cos at the receiver| * |cos at the light| / d^2 (delta lights: f * I / d^2 * |cos|).
+// Uses the sample's stored point, which must be placed with the receiver's lights.
 struct DiContribution {
   vec3 value{0.0f};
   LightSample light;
-  float area_pdf = 0.0f;  // density of the light sample over the light's area (1 for delta lights)
 };
-DiContribution di_contribution(const SceneView& view, const DiReceiver& receiver, const DiSample& s);
+DiContribution di_contribution(const DiReceiver& receiver, const DiSample& s);
 
 // Target function p_hat: luminance of the unshadowed contribution.
 inline float di_target(const DiContribution& c) { return luminance(c.value); }
@@ -61,29 +87,32 @@ bool di_occluded(const SceneView& view, const GBuffer& g, size_t pixel, const Li
 
 // The light sample (light and uniforms) that LightList::sample maps to barycentric point b of triangle
 // light `light`: the inverse of its uniform triangle mapping.
-inline DiSample di_sample_at(uint32_t light, vec2 b) {
+inline DiSample di_sample_at(const Scene& scene, const LightList& lights, uint32_t light, vec2 b) {
   float su = b.x + b.y;
-  return {light, vec2(std::min(su * su, 1.0f - 0x1p-24f), su > 0.0f ? std::min(b.y / su, 1.0f - 0x1p-24f) : 0.0f)};
+  vec2 uv(std::min(su * su, 1.0f - 0x1p-24f), su > 0.0f ? std::min(b.y / su, 1.0f - 0x1p-24f) : 0.0f);
+  return di_resolve(scene, lights, light, uv);
 }
 
-// Stage "di_candidates": reads the G-buffer, writes one reservoir per pixel from M_l light candidates
+// Stage "di_candidates": reads the G-buffer and packed surfaces, writes one reservoir per pixel from M_l light candidates
 // and M_b BSDF candidates, combined by the balance heuristic in area measure: each candidate x gets
 // w = p_hat(x) / (M_l p_light(x) + M_b p_bsdf(x)) (Talbot et al. 2005; Bitterli et al. 2020, sec. 3).
 // Light no light technique can sample (the environment, emitters below the light list's threshold)
 // reaches the pixel only through the BSDF candidates: their plain estimate of it goes to `unsampled`
 // (zero without BSDF candidates). Cost per pixel: M_l light samples, M_l + M_b BSDF evaluations, M_b
-// rays, plus one shadow ray with candidate_visibility.
+// rays, plus one shadow ray with candidate_visibility. Targets use the packed surface (`domain`), BSDF
+// sampling and its density the exact one.
 template <LightSampler S>
-void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiParams& params, int frame,
-                           std::vector<DiReservoir>& out, std::vector<vec3>& unsampled, RayCounter& rays) {
+void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
+                           const DiParams& params, int frame, std::vector<DiReservoir>& out, std::vector<vec3>& unsampled,
+                           RayCounter& rays) {
   out.assign(g.size(), DiReservoir{});
   unsampled.assign(g.size(), vec3(0.0f));
-  const DiDomain domain{g, view.camera.position()};
   for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
     if (!g.hit(i)) return 0;
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
     ShadingContext ctx{g.position[i], g.shading_normal[i]};
-    const DiReceiver receiver = di_receiver(domain, i);
+    const DiReceiver target = di_receiver(domain, i);
+    const DiReceiver receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
     DiReservoir& r = out[i];
     const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
     // Area density with which BSDF sampling reaches the sample's point (0 for delta lights).
@@ -94,13 +123,15 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
     };
     for (int k = 0; k < params.light_candidates; ++k) {
       SampledLight chosen = sampler.sample(ctx, vec2(rng.next_float(), rng.next_float()));
-      DiSample s{chosen.index, vec2(rng.next_float(), rng.next_float())};
+      vec2 uv(rng.next_float(), rng.next_float());
       float u = rng.next_float();
       if (chosen.pmf <= 0.0f) continue;
-      DiContribution c = di_contribution(view, receiver, s);
+      DiSample s = di_resolve(view.scene, view.lights, chosen.index, uv);
+      DiContribution c = di_contribution(target, s);
       float p_hat = di_target(c);
       if (p_hat <= 0.0f) continue;
-      r.update(s, p_hat / (M_l * chosen.pmf * c.area_pdf + M_b * bsdf_area_pdf(c)), p_hat, u);
+      float p_light = chosen.pmf * di_area_pdf(view.lights, chosen.index);
+      r.update(s, p_hat / (M_l * p_light + M_b * bsdf_area_pdf(c)), p_hat, u);
     }
     uint64_t traced = 0;
     for (int k = 0; k < params.bsdf_candidates; ++k) {
@@ -112,22 +143,24 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       Hit hit = view.tracer.intersect(view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi));
       int64_t light = hit.valid() ? view.lights.light_index(hit.instance, hit.prim) : -1;
       if (light < 0) {
-        vec3 L = hit.valid() ? surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -bs.wi).emission
-                             : view.lights.environment();
+        vec3 L = !hit.valid() ? view.lights.environment()
+                 : view.scene.material_of(hit.instance).emissive()
+                     ? surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -bs.wi).emission
+                     : vec3(0.0f);
         unsampled[i] += bs.f * (std::abs(glm::dot(bs.wi, receiver.shading_normal)) / bs.pdf) * L / M_b;
         continue;
       }
-      DiSample s = di_sample_at(uint32_t(light), hit.barycentric);
-      DiContribution c = di_contribution(view, receiver, s);
+      DiSample s = di_sample_at(view.scene, view.lights, uint32_t(light), hit.barycentric);
+      DiContribution c = di_contribution(target, s);
       float p_hat = di_target(c);
       if (p_hat <= 0.0f) continue;
-      float p_light = sampler.pmf(ctx, uint32_t(light)) * c.area_pdf;
+      float p_light = sampler.pmf(ctx, uint32_t(light)) * di_area_pdf(view.lights, uint32_t(light));
       r.update(s, p_hat / (M_l * p_light + M_b * bsdf_area_pdf(c)), p_hat, u);
     }
     r.M = M_l + M_b;
     r.finalize();
     if (!params.candidate_visibility || r.W <= 0.0f) return traced;
-    if (di_occluded(view, g, i, di_contribution(view, receiver, r.y).light)) r.W = 0.0f;
+    if (di_occluded(view, g, i, di_contribution(receiver, r.y).light)) r.W = 0.0f;
     return traced + 1;
   });
 }
@@ -138,8 +171,8 @@ enum class DiAov : uint8_t { M, W, Light };
 Image di_reservoir_image(const GBuffer& g, const std::vector<DiReservoir>& reservoirs, DiAov aov);
 
 // Stage "di_shade": reads the G-buffer, reservoirs and the unsampled light of the candidates, adds
-// emission seen plus unsampled light plus f L_e G W of each pixel's sample (one shadow ray per pixel with
-// a sample) into `sum`.
+// emission seen plus unsampled light plus f L_e G W of each pixel's sample, with the exact surface (one
+// shadow ray per pixel with a sample), into `sum`.
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
               const std::vector<vec3>& unsampled, Image& sum, RayCounter& rays);
 

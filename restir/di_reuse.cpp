@@ -12,18 +12,40 @@ struct ReuseInput {
   float M;  // confidence used for this input (capped for history)
 };
 
-bool similar(const GBuffer& a, size_t i, const GBuffer& b, size_t j, const DiReuseParams& p) {
-  if (!b.hit(j)) return false;
-  if (std::abs(a.depth[i] - b.depth[j]) > p.depth_tolerance * a.depth[i]) return false;
-  return glm::dot(a.shading_normal[i], b.shading_normal[j]) >= p.normal_tolerance;
+// Whether surface b may share samples with surface a (shading normal a_n): close in depth and orientation.
+bool similar(const DiSurface& a, const vec3& a_n, const DiSurface& b, const DiReuseParams& p) {
+  if (!b.hit() || std::abs(a.depth - b.depth) > p.depth_tolerance * a.depth) return false;
+  return glm::dot(a_n, b.shading_n()) >= p.normal_tolerance;
+}
+
+// A sample of input k as seen by the receiver of input z: samples hold their point as placed in their
+// own frame; only where z's frame placed the lights differently (moving lights, temporal reuse) is the
+// point re-placed.
+struct PlacedSample {
+  const DiSample& own;  // as stored by its input
+  const LightList* own_lights;
+  const DiSample& here;  // placed for the combining pixel (input 0)
+  const LightList* here_lights;
+  const DiSample& at(const DiReceiver& receiver, const Scene& scene, DiSample& scratch) const {
+    if (receiver.lights == here_lights) return here;
+    if (receiver.lights == own_lights) return own;
+    scratch = di_resolve(scene, *receiver.lights, own.light, own.uv);
+    return scratch;
+  }
+};
+
+float target_at(const SceneView& view, const DiReceiver& receiver, const PlacedSample& y) {
+  DiSample scratch;
+  return di_target(di_contribution(receiver, y.at(receiver, view.scene, scratch)));
 }
 
 // Generalized balance heuristic: m_k(y) = M_k p_k(y) / sum_z M_z p_z(y). Evaluates every input's target.
 float basic_weight(const SceneView& view, const ReuseInput* inputs, const DiReceiver* receivers, int count, int k,
-                   const DiSample& y, float p_hat_here) {
+                   const PlacedSample& y, float p_hat_here) {
   float numerator = 0.0f, denominator = 0.0f;
   for (int z = 0; z < count; ++z) {
-    float term = inputs[z].M * (z == 0 ? p_hat_here : di_target(di_contribution(view, receivers[z], y)));
+    float p = z == 0 ? p_hat_here : z == k ? inputs[k].reservoir->p_hat_y : target_at(view, receivers[z], y);
+    float term = inputs[z].M * p;
     denominator += term;
     if (z == k) numerator = term;
   }
@@ -38,7 +60,7 @@ float basic_weight(const SceneView& view, const ReuseInput* inputs, const DiRece
 // The weights sum to one wherever p_c > 0, so the combination stays unbiased, at O(n) target
 // evaluations instead of O(n^2). p_i(y_i) is the value stored in input i's reservoir.
 float pairwise_weight(const SceneView& view, const ReuseInput* inputs, const DiReceiver* receivers, int count, int k,
-                      const DiSample& y, float p_hat_here) {
+                      const PlacedSample& y, float p_hat_here) {
   const int n = count - 1;
   if (n == 0) return 1.0f;
   const float canonical = inputs[0].M / float(n) * p_hat_here;
@@ -48,32 +70,40 @@ float pairwise_weight(const SceneView& view, const ReuseInput* inputs, const DiR
   }
   float m = 0.0f;
   for (int i = 1; i < count; ++i) {
-    float term = inputs[i].M * di_target(di_contribution(view, receivers[i], y));
+    float term = inputs[i].M * target_at(view, receivers[i], y);
     m += term + canonical > 0.0f ? canonical / (term + canonical) : 1.0f;
   }
   return m / float(n);
 }
 
-// Combines the inputs into one reservoir for the pixel of inputs[0] (the receiver's own reservoir).
+// Combines the inputs into one reservoir for the pixel of inputs[0] (the receiver's own reservoir); the
+// result's sample is placed in input 0's frame. The canonical input's target at its own sample is the one
+// its reservoir stored.
 DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, DiBiasCorrection bias, Rng& rng) {
   DiReservoir out;
   float M_total = 0.0f;
   for (int k = 0; k < count; ++k) M_total += inputs[k].M;
-  // Every input's pixel as a receiver, built once (the MIS weights evaluate other inputs' targets).
-  DiReceiver receivers[32];
+  // Every input's pixel as a receiver, built once (the MIS weights evaluate other inputs' targets), in
+  // a per-thread buffer: constructing a fixed array of 32 receivers per pixel cost more than using them.
+  thread_local std::vector<DiReceiver> receivers;
+  receivers.clear();
   const int built = bias == DiBiasCorrection::None ? 1 : count;
-  for (int z = 0; z < built; ++z) receivers[z] = di_receiver(*inputs[z].domain, inputs[z].pixel);
+  for (int z = 0; z < built; ++z) receivers.push_back(di_receiver(*inputs[z].domain, inputs[z].pixel));
+  const LightList* here_lights = receivers[0].lights;
   for (int k = 0; k < count; ++k) {
     const ReuseInput& in = inputs[k];
     float u = rng.next_float();
     out.M += in.M;
     if (in.reservoir->W <= 0.0f) continue;
-    const DiSample& y = in.reservoir->y;
-    float p_hat_here = di_target(di_contribution(view, receivers[0], y));
+    const DiSample& own = in.reservoir->y;
+    const LightList* own_lights = &in.domain->lights;
+    const DiSample here = own_lights == here_lights ? own : di_resolve(view.scene, *here_lights, own.light, own.uv);
+    const PlacedSample y{own, own_lights, here, here_lights};
+    float p_hat_here = k == 0 ? in.reservoir->p_hat_y : di_target(di_contribution(receivers[0], here));
     float m = in.M / M_total;
-    if (bias == DiBiasCorrection::Basic) m = basic_weight(view, inputs, receivers, count, k, y, p_hat_here);
-    if (bias == DiBiasCorrection::Pairwise) m = pairwise_weight(view, inputs, receivers, count, k, y, p_hat_here);
-    out.update(y, m * p_hat_here * in.reservoir->W, p_hat_here, u);
+    if (bias == DiBiasCorrection::Basic) m = basic_weight(view, inputs, receivers.data(), count, k, y, p_hat_here);
+    if (bias == DiBiasCorrection::Pairwise) m = pairwise_weight(view, inputs, receivers.data(), count, k, y, p_hat_here);
+    out.update(here, m * p_hat_here * in.reservoir->W, p_hat_here, u);
   }
   out.finalize();
   return out;
@@ -81,12 +111,11 @@ DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, 
 
 }  // namespace
 
-void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiDomain& previous,
+void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out) {
-  const GBuffer& g = current.g;
   out = reservoirs;
-  if (history.size() != g.size() || previous.g.size() != g.size()) return;
+  if (history.size() != g.size() || previous.surfaces.size() != g.size()) return;
   for_each_pixel(g.width, g.height, [&](size_t i, int x, int y) {
     if (!g.hit(i)) return;
     // Last frame's pixel under this pixel's surface point (motion starts at the jittered film position).
@@ -100,7 +129,7 @@ void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiD
     }
     if (px < 0 || py < 0 || px >= g.width || py >= g.height) return;
     size_t j = size_t(py) * g.width + px;
-    if (!similar(g, i, previous.g, j, params)) return;
+    if (!similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params)) return;
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
     ReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
                             {&history[j], &previous, j, std::min(history[j].M, params.history_cap * reservoirs[i].M)}};
@@ -110,22 +139,26 @@ void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiD
 
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, std::vector<DiReservoir>& out) {
-  const GBuffer& g = current.g;
+  const std::vector<DiSurface>& surfaces = current.surfaces;
+  const int width = current.width, height = current.height;
   out = in;
   const int max_inputs = 1 + std::clamp(params.spatial_neighbours, 0, 31);
-  for_each_pixel(g.width, g.height, [&](size_t i, int x, int y) {
-    if (!g.hit(i)) return;
+  for_each_pixel(width, height, [&](size_t i, int x, int y) {
+    if (!surfaces[i].hit()) return;
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
     ReuseInput inputs[32];
     int count = 0;
     inputs[count++] = {&in[i], &current, i, in[i].M};
+    const vec3 n = surfaces[i].shading_n();
     for (int k = 1; k < max_inputs; ++k) {
-      // A uniform point in the disk of the given radius (rejection-free polar mapping).
-      float r = params.spatial_radius * std::sqrt(rng.next_float()), phi = 2.0f * kPi * rng.next_float();
-      int nx = x + int(std::lround(r * std::cos(phi))), ny = y + int(std::lround(r * std::sin(phi)));
-      if (nx < 0 || ny < 0 || nx >= g.width || ny >= g.height || (nx == x && ny == y)) continue;
-      size_t j = size_t(ny) * g.width + nx;
-      if (!similar(g, i, g, j, params)) continue;
+      // A uniform point in the disk of the given radius, by rejection from the square (no trigonometry).
+      vec2 d;
+      do d = vec2(rng.next_float(), rng.next_float()) * 2.0f - 1.0f;
+      while (glm::dot(d, d) > 1.0f);
+      int nx = x + int(std::lround(params.spatial_radius * d.x)), ny = y + int(std::lround(params.spatial_radius * d.y));
+      if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
+      size_t j = size_t(ny) * width + nx;
+      if (!similar(surfaces[i], n, surfaces[j], params)) continue;
       inputs[count++] = {&in[j], &current, j, in[j].M};
     }
     out[i] = combine(view, inputs, count, params.bias, rng);

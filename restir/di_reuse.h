@@ -31,13 +31,13 @@ struct DiReuseParams {
   uint64_t seed = 0;
 };
 
-// Stage "di_temporal": reads this frame's and the previous frame's G-buffers and reservoirs, writes
-// `out` (one combined reservoir per pixel). Reprojects with the motion vectors. No rays.
-void di_temporal_reuse(const SceneView& view, const DiDomain& current, const DiDomain& previous,
+// Stage "di_temporal": reads this frame's G-buffer (motion), this and the previous frame's surfaces and
+// reservoirs, writes `out` (one combined reservoir per pixel). Reprojects with the motion vectors. No rays.
+void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out);
 
-// Stage "di_spatial": reads the G-buffer and `in`, writes `out` combining each pixel with up to k
+// Stage "di_spatial": reads the surfaces and `in`, writes `out` combining each pixel with up to k
 // similar neighbours within the radius. No rays. `pass` selects its own random stream.
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, std::vector<DiReservoir>& out);
