@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1024))->capture_default_str();
   render->add_option("--method", r.method,
                      "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF sample "
-                     "combined by MIS), restir-di (direct light by resampled importance sampling; reuse to come)")
+                     "combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling)")
       ->check(CLI::IsMember({"pt", "direct", "restir-di"}))->capture_default_str();
   render->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
@@ -154,6 +154,17 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0f, 1000.0f))->capture_default_str();
   render->add_option("--di-spatial-passes", r.settings.di_reuse.spatial_passes, "restir-di: spatial reuse passes")
       ->check(CLI::Range(1, 8))->capture_default_str();
+  render->add_option("--di-disocclusion-neighbours", r.settings.di_reuse.disocclusion_neighbours,
+                     "restir-di: spatial neighbours (first pass) for pixels whose temporal history was lost")
+      ->check(CLI::Range(0, 31))->capture_default_str();
+  render->add_option("--di-boiling-filter", r.settings.di_reuse.boiling_threshold,
+                     "restir-di: drop reservoirs whose estimated contribution exceeds this many times their 16x16 block's "
+                     "mean, after temporal reuse (0 = off; biased: removes energy)")
+      ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
+  render->add_option("--di-visibility-reuse", r.settings.di_reuse.visibility_reuse_frames,
+                     "restir-di: reuse last frame's final shadow-ray verdict where a pixel keeps its temporal history's "
+                     "sample, for at most this many frames in a row (0 = off; biased where occluders move)")
+      ->check(CLI::Range(0, 255))->capture_default_str();
   render->add_flag("--di-permutation", r.settings.di_reuse.permutation_sampling,
                    "restir-di: permutation sampling of the previous frame (decorrelates frames for a denoiser)");
   render->add_option("--di-history-cap", r.settings.di_reuse.history_cap,

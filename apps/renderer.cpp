@@ -109,9 +109,10 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, 
   std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
 }
 
-// Stages "di_candidates", "di_temporal" (first pass of a frame, once there is history), "di_spatial"
-// (per spatial pass) and "di_shade": one ReSTIR DI estimate per pixel added into the sum; the final
-// reservoirs become the next frame's history. Each pass of each frame draws its own random streams.
+// Stages "di_surfaces" (first pass of a frame), "di_candidates", "di_temporal" (first pass, once there is
+// history), "di_boiling_filter" (optional), "di_spatial" (per spatial pass) and "di_shade": one ReSTIR DI
+// estimate per pixel added into the sum; the final reservoirs and shadow-ray verdicts become the next
+// pass's history. Each pass of each frame draws its own random streams.
 void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats) {
   DiParams params = settings_.di;
   params.seed = settings_.seed;
@@ -132,19 +133,26 @@ void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, 
     }, sampler_);
   }
   const std::vector<DiReservoir>* result = &reservoirs_;
-  if (reuse.temporal && pass == 0 && history_.size() == gbuffer_.size()) {
+  const bool temporal = reuse.temporal && pass == 0 && history_.size() == gbuffer_.size();
+  if (temporal) {
     StageTimer timer(stats, "di_temporal");
-    di_temporal_reuse(view, gbuffer_, current, previous, *result, history_, reuse, key, temporal_);
+    di_temporal_reuse(view, gbuffer_, current, previous, *result, history_, reuse, key, temporal_, di_history_pixel_);
     result = &temporal_;
+  }
+  if (temporal && reuse.boiling_threshold > 0.0f) {
+    StageTimer timer(stats, "di_boiling_filter");
+    di_boiling_filter(current, reuse.boiling_threshold, temporal_);
   }
   for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
     StageTimer timer(stats, "di_spatial");
-    di_spatial_reuse(view, current, *result, reuse, key, k, spatial_[k % 2]);
+    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &di_history_pixel_ : nullptr, spatial_[k % 2]);
     result = &spatial_[k % 2];
   }
   {
     StageTimer timer(stats, "di_shade");
-    di_shade(view, gbuffer_, *result, di_unsampled_, sum_, timer.rays());
+    std::swap(di_visibility_, prev_di_visibility_);
+    DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &di_history_pixel_ : nullptr, &prev_di_visibility_};
+    di_shade(view, gbuffer_, *result, di_unsampled_, visibility, di_visibility_, sum_, timer.rays());
   }
   history_ = *result;
 }

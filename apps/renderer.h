@@ -24,7 +24,7 @@ namespace candela {
 
 // pt: the reference path tracer; direct: the same estimator stopped after one bounce (emission seen
 // plus light sampling and a BSDF sample combined by MIS at the first hit); restir-di: direct light by
-// resampled importance sampling at the G-buffer's points (reuse stages to come).
+// resampled importance sampling at the G-buffer's points, reused across pixels and frames.
 enum class Method { PathTrace, Direct, RestirDi };
 enum class LightSamplerKind { Uniform, Power, Tree, Exhaustive };
 
@@ -82,7 +82,9 @@ class Renderer {
   GBuffer gbuffer_, prev_gbuffer_;
   std::vector<DiReservoir> reservoirs_, temporal_, spatial_[2], history_;
   std::vector<DiSurface> di_surfaces_, prev_di_surfaces_;  // packed G-buffer surfaces of this and last frame
-  std::vector<vec3> di_unsampled_;  // light only BSDF candidates reach (environment, unlisted emitters)
+  std::vector<vec3> di_unsampled_;
+  std::vector<int32_t> di_history_pixel_;                 // per pixel: last frame's pixel merged by temporal reuse
+  std::vector<DiVisibility> di_visibility_, prev_di_visibility_;  // final shadow-ray verdicts, this and last pass  // light only BSDF candidates reach (environment, unlisted emitters)
   Image sum_;
   int accumulated_spp_ = 0;
 };

@@ -24,15 +24,31 @@ bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightS
 }
 
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
-              const std::vector<vec3>& unsampled, Image& sum, RayCounter& rays) {
+              const std::vector<vec3>& unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
+              Image& sum, RayCounter& rays) {
+  const bool reusing = reuse.max_age > 0 && reuse.history_pixel && reuse.previous &&
+                       reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
+  visibility.assign(g.size(), DiVisibility{});
   for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
     vec3 L = g.emission[i] + unsampled[i];
     const DiReservoir& r = reservoirs[i];
     uint64_t traced = 0;
     if (g.hit(i) && r.W > 0.0f) {
       DiContribution c = di_contribution(di_exact_receiver(g, view.camera.position(), view.lights, i), r.y);
-      traced = 1;
-      if (max_component(c.value) > 0.0f && !di_occluded(view, g, i, c.light)) L += c.value * r.W;
+      if (max_component(c.value) > 0.0f) {
+        DiVisibility& v = visibility[i];
+        v = {r.y.light, r.y.uv, true, false, 0};
+        int32_t j = reusing ? (*reuse.history_pixel)[i] : -1;
+        const DiVisibility* old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
+        if (old && old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv) {
+          v.visible = old->visible;
+          v.age = uint8_t(old->age + 1);
+        } else {
+          v.visible = !di_occluded(view, g, i, c.light);
+          traced = 1;
+        }
+        if (v.visible) L += c.value * r.W;
+      }
     }
     if (is_finite(L)) sum.pixels[i] += L;
     return traced;

@@ -1,9 +1,11 @@
 #pragma once
-// ReSTIR DI, first stages (Bitterli et al. 2020, section 3 and Alg. 3): per pixel, resampled importance
-// sampling of light samples into a reservoir, then shading with one shadow ray. Samples live in the
-// lights' area measure (a light index and the two uniforms that place the point on it), so that a
-// reservoir's contribution weight W stays valid when the sample is reused at another pixel (the reuse
-// stages come next: temporal and spatial reuse, bias correction).
+// ReSTIR DI, the per-pixel stages (Bitterli et al. 2020, section 3 and Alg. 3): resampled importance
+// sampling of light samples into a reservoir, then shading with one shadow ray (the reuse stages between
+// them are in di_reuse.h). Samples live in the lights' area measure (a light index and the two uniforms
+// that place the point on it), so that a reservoir's contribution weight W stays valid when the sample is
+// reused at another pixel or frame; light indices are stable for a scene's lifetime (LightList keeps one
+// per emitting triangle of each instance and per punctual light), so a sample's identity needs no remap
+// between frames, and a light that moved, dimmed or went dark is simply re-evaluated where it is now.
 #include <vector>
 
 #include "engine/gbuffer.h"
@@ -170,10 +172,30 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
 enum class DiAov : uint8_t { M, W, Light };
 Image di_reservoir_image(const GBuffer& g, const std::vector<DiReservoir>& reservoirs, DiAov aov);
 
+// A pixel's final shadow-ray verdict on its sample, handed to the next frame.
+struct DiVisibility {
+  uint32_t light = 0;
+  vec2 uv{0.0f};
+  bool valid = false;   // a verdict exists (false where nothing was traced)
+  bool visible = false;
+  uint8_t age = 0;      // frames this verdict has been reused
+};
+
+// Final visibility reuse: a pixel whose sample is the one its temporal history pixel shaded last frame
+// takes that pixel's verdict instead of tracing, for at most max_age frames in a row. Biased where
+// occluders move (their shadows lag up to max_age frames) and by the sub-pixel move of the surface point.
+struct DiVisibilityReuse {
+  int max_age = 0;                                     // 0: trace every pixel every frame
+  const std::vector<int32_t>* history_pixel = nullptr; // from temporal reuse (null: no history)
+  const std::vector<DiVisibility>* previous = nullptr; // last frame's verdicts
+};
+
 // Stage "di_shade": reads the G-buffer, reservoirs and the unsampled light of the candidates, adds
-// emission seen plus unsampled light plus f L_e G W of each pixel's sample, with the exact surface (one
-// shadow ray per pixel with a sample), into `sum`.
+// emission seen plus unsampled light plus f L_e G W of each pixel's sample, with the exact surface, into
+// `sum`; writes each pixel's verdict to `visibility`. One shadow ray per pixel with a sample, except
+// where a verdict is reused.
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
-              const std::vector<vec3>& unsampled, Image& sum, RayCounter& rays);
+              const std::vector<vec3>& unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
+              Image& sum, RayCounter& rays);
 
 }  // namespace candela

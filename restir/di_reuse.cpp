@@ -1,5 +1,7 @@
 #include "restir/di_reuse.h"
 
+#include <tbb/parallel_for.h>
+
 namespace candela {
 
 namespace {
@@ -113,8 +115,10 @@ DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, 
 
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
-                       const DiReuseParams& params, int frame, std::vector<DiReservoir>& out) {
+                       const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
+                       std::vector<int32_t>& history_pixel) {
   out = reservoirs;
+  history_pixel.assign(g.size(), -1);
   if (history.size() != g.size() || previous.surfaces.size() != g.size()) return;
   for_each_pixel(g.width, g.height, [&](size_t i, int x, int y) {
     if (!g.hit(i)) return;
@@ -134,17 +138,21 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     ReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
                             {&history[j], &previous, j, std::min(history[j].M, params.history_cap * reservoirs[i].M)}};
     out[i] = combine(view, inputs, 2, params.bias, rng);
+    history_pixel[i] = int32_t(j);
   });
 }
 
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
-                      const DiReuseParams& params, int frame, int pass, std::vector<DiReservoir>& out) {
+                      const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
+                      std::vector<DiReservoir>& out) {
   const std::vector<DiSurface>& surfaces = current.surfaces;
   const int width = current.width, height = current.height;
   out = in;
-  const int max_inputs = 1 + std::clamp(params.spatial_neighbours, 0, 31);
+  const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
   for_each_pixel(width, height, [&](size_t i, int x, int y) {
     if (!surfaces[i].hit()) return;
+    const int neighbours = boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
+    const int max_inputs = 1 + std::clamp(neighbours, 0, 31);
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
     ReuseInput inputs[32];
     int count = 0;
@@ -162,6 +170,26 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       inputs[count++] = {&in[j], &current, j, in[j].M};
     }
     out[i] = combine(view, inputs, count, params.bias, rng);
+  });
+}
+
+void di_boiling_filter(const DiDomain& current, float threshold, std::vector<DiReservoir>& reservoirs) {
+  constexpr int kBlock = 16;
+  const int bw = (current.width + kBlock - 1) / kBlock, bh = (current.height + kBlock - 1) / kBlock;
+  auto contribution = [&](size_t i) { return reservoirs[i].p_hat_y * reservoirs[i].W; };
+  tbb::parallel_for(0, bw * bh, [&](int b) {
+    const int x0 = (b % bw) * kBlock, y0 = (b / bw) * kBlock;
+    const int x1 = std::min(x0 + kBlock, current.width), y1 = std::min(y0 + kBlock, current.height);
+    double sum = 0.0;
+    int count = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x)
+        if (size_t i = size_t(y) * current.width + x; reservoirs[i].W > 0.0f) sum += contribution(i), ++count;
+    if (count == 0) return;
+    const float limit = threshold * float(sum / count);
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x)
+        if (size_t i = size_t(y) * current.width + x; contribution(i) > limit) reservoirs[i] = DiReservoir{};
   });
 }
 

@@ -23,23 +23,42 @@ struct DiReuseParams {
                                       // with basic/pairwise, slightly blurrier
   bool spatial = true;
   int spatial_neighbours = 5;     // per pass; each costs k + 1 target evaluations in basic mode
+  int disocclusion_neighbours = 10;  // first pass, pixels where temporal reuse found no history: more
+                                     // neighbours make up for the lost history (a disocclusion boost)
   float spatial_radius = 16.0f;   // pixels
   int spatial_passes = 1;
   float depth_tolerance = 0.1f;   // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
   DiBiasCorrection bias = DiBiasCorrection::Pairwise;
+  float boiling_threshold = 0.0f; // > 0: after temporal reuse, drop reservoirs whose estimated contribution
+                                  // exceeds this many times their 16x16 block's mean (biased: darkens; see
+                                  // di_boiling_filter)
+  int visibility_reuse_frames = 0; // > 0: final visibility reuse for up to this many frames (see DiVisibilityReuse)
   uint64_t seed = 0;
 };
 
 // Stage "di_temporal": reads this frame's G-buffer (motion), this and the previous frame's surfaces and
-// reservoirs, writes `out` (one combined reservoir per pixel). Reprojects with the motion vectors. No rays.
+// reservoirs, writes `out` (one combined reservoir per pixel) and `history_pixel` (the previous frame's
+// pixel whose reservoir was merged, or -1 where the history was lost). Reprojects with the motion vectors.
+// No rays.
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
-                       const DiReuseParams& params, int frame, std::vector<DiReservoir>& out);
+                       const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
+                       std::vector<int32_t>& history_pixel);
 
 // Stage "di_spatial": reads the surfaces and `in`, writes `out` combining each pixel with up to k
-// similar neighbours within the radius. No rays. `pass` selects its own random stream.
+// similar neighbours within the radius. No rays. `pass` selects its own random stream. With
+// `history_pixel` (temporal reuse ran), the first pass gives pixels without history
+// disocclusion_neighbours instead.
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
-                      const DiReuseParams& params, int frame, int pass, std::vector<DiReservoir>& out);
+                      const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
+                      std::vector<DiReservoir>& out);
+
+// Stage "di_boiling_filter": reads and rewrites the reservoirs. Temporal reuse can make a rare sample with
+// a huge contribution weight spread to its neighbours frame after frame ("boiling"); this drops every
+// reservoir whose estimated contribution p_hat(y) W exceeds `threshold` times the mean over its 16x16 block
+// (the idea of RTXDI's boiling filter; the statistic here is our own). Biased: it removes energy. Cost: two
+// passes over the reservoirs.
+void di_boiling_filter(const DiDomain& current, float threshold, std::vector<DiReservoir>& reservoirs);
 
 }  // namespace candela
