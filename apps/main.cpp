@@ -148,6 +148,9 @@ int main(int argc, char** argv) {
                      "restir-di: bias correction of reuse: none (1/M), basic (generalized balance heuristic, k^2 target "
                      "evaluations) or pairwise (pairwise MIS, k evaluations)")
       ->check(CLI::IsMember({"none", "basic", "pairwise"}))->capture_default_str();
+  render->add_flag("--di-mis-visibility", r.settings.di_reuse.mis_visibility,
+                   "restir-di, --di-bias basic: include visibility in the reuse MIS weights (unbiased also with "
+                   "--di-visibility; (k+1)^2 shadow rays per pixel)");
   render->add_option("--di-neighbours", r.settings.di_reuse.spatial_neighbours, "restir-di: spatial neighbours per pass")
       ->check(CLI::Range(0, 31))->capture_default_str();
   render->add_option("--di-radius", r.settings.di_reuse.spatial_radius, "restir-di: spatial reuse radius in pixels")

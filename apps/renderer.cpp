@@ -136,7 +136,8 @@ void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, 
   const bool temporal = reuse.temporal && pass == 0 && history_.size() == gbuffer_.size();
   if (temporal) {
     StageTimer timer(stats, "di_temporal");
-    di_temporal_reuse(view, gbuffer_, current, previous, *result, history_, reuse, key, temporal_, di_history_pixel_);
+    di_temporal_reuse(view, gbuffer_, current, previous, *result, history_, reuse, key, temporal_, di_history_pixel_,
+                      timer.rays());
     result = &temporal_;
   }
   if (temporal && reuse.boiling_threshold > 0.0f) {
@@ -145,7 +146,8 @@ void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, 
   }
   for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
     StageTimer timer(stats, "di_spatial");
-    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &di_history_pixel_ : nullptr, spatial_[k % 2]);
+    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &di_history_pixel_ : nullptr, spatial_[k % 2],
+                     timer.rays());
     result = &spatial_[k % 2];
   }
   {

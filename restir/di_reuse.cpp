@@ -41,12 +41,25 @@ float target_at(const SceneView& view, const DiReceiver& receiver, const PlacedS
   return di_target(di_contribution(receiver, y.at(receiver, view.scene, scratch)));
 }
 
-// Generalized balance heuristic: m_k(y) = M_k p_k(y) / sum_z M_z p_z(y). Evaluates every input's target.
+// Whether the receiver's surface does not see the sample (one shadow ray, against this frame's geometry).
+bool occluded_from(const SceneView& view, const DiReceiver& receiver, const PlacedSample& y) {
+  DiSample scratch;
+  LightSample ls = di_contribution(receiver, y.at(receiver, view.scene, scratch)).light;
+  return view.tracer.occluded(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, ls));
+}
+
+// Generalized balance heuristic: m_k(y) = M_k p_k(y) / sum_z M_z p_z(y). Evaluates every input's target,
+// with `visibility` times the visibility of y from each input's surface (Bitterli et al. 2020, sec. 4.3:
+// unbiased also when reservoirs were visibility-tested), tracing up to `count` rays.
 float basic_weight(const SceneView& view, const ReuseInput* inputs, const DiReceiver* receivers, int count, int k,
-                   const PlacedSample& y, float p_hat_here) {
+                   const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   float numerator = 0.0f, denominator = 0.0f;
   for (int z = 0; z < count; ++z) {
     float p = z == 0 ? p_hat_here : z == k ? inputs[k].reservoir->p_hat_y : target_at(view, receivers[z], y);
+    if (visibility && p > 0.0f) {
+      ++rays;
+      if (occluded_from(view, receivers[z], y)) p = 0.0f;
+    }
     float term = inputs[z].M * p;
     denominator += term;
     if (z == k) numerator = term;
@@ -81,7 +94,9 @@ float pairwise_weight(const SceneView& view, const ReuseInput* inputs, const DiR
 // Combines the inputs into one reservoir for the pixel of inputs[0] (the receiver's own reservoir); the
 // result's sample is placed in input 0's frame. The canonical input's target at its own sample is the one
 // its reservoir stored.
-DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, DiBiasCorrection bias, Rng& rng) {
+DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, const DiReuseParams& params, Rng& rng,
+                    uint64_t& rays) {
+  const DiBiasCorrection bias = params.bias;
   DiReservoir out;
   float M_total = 0.0f;
   for (int k = 0; k < count; ++k) M_total += inputs[k].M;
@@ -103,7 +118,8 @@ DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, 
     const PlacedSample y{own, own_lights, here, here_lights};
     float p_hat_here = k == 0 ? in.reservoir->p_hat_y : di_target(di_contribution(receivers[0], here));
     float m = in.M / M_total;
-    if (bias == DiBiasCorrection::Basic) m = basic_weight(view, inputs, receivers.data(), count, k, y, p_hat_here);
+    if (bias == DiBiasCorrection::Basic)
+      m = basic_weight(view, inputs, receivers.data(), count, k, y, p_hat_here, params.mis_visibility, rays);
     if (bias == DiBiasCorrection::Pairwise) m = pairwise_weight(view, inputs, receivers.data(), count, k, y, p_hat_here);
     out.update(here, m * p_hat_here * in.reservoir->W, p_hat_here, u);
   }
@@ -116,41 +132,43 @@ DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, 
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
-                       std::vector<int32_t>& history_pixel) {
+                       std::vector<int32_t>& history_pixel, RayCounter& rays) {
   out = reservoirs;
   history_pixel.assign(g.size(), -1);
   if (history.size() != g.size() || previous.surfaces.size() != g.size()) return;
-  for_each_pixel(g.width, g.height, [&](size_t i, int x, int y) {
-    if (!g.hit(i)) return;
+  for_each_pixel(g.width, g.height, rays, [&](size_t i, int x, int y) -> uint64_t {
+    if (!g.hit(i)) return 0;
     // Last frame's pixel under this pixel's surface point (motion starts at the jittered film position).
     vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
-    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return;
+    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return 0;
     int px = int(p.x), py = int(p.y);
     if (params.permutation_sampling) {
       uint64_t pattern = mix64(params.seed ^ uint64_t(frame));
       px ^= int(pattern & 1);
       py ^= int((pattern >> 1) & 1);
     }
-    if (px < 0 || py < 0 || px >= g.width || py >= g.height) return;
+    if (px < 0 || py < 0 || px >= g.width || py >= g.height) return 0;
     size_t j = size_t(py) * g.width + px;
-    if (!similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params)) return;
+    if (!similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params)) return 0;
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
     ReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
                             {&history[j], &previous, j, std::min(history[j].M, params.history_cap * reservoirs[i].M)}};
-    out[i] = combine(view, inputs, 2, params.bias, rng);
+    uint64_t traced = 0;
+    out[i] = combine(view, inputs, 2, params, rng, traced);
     history_pixel[i] = int32_t(j);
+    return traced;
   });
 }
 
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
-                      std::vector<DiReservoir>& out) {
+                      std::vector<DiReservoir>& out, RayCounter& rays) {
   const std::vector<DiSurface>& surfaces = current.surfaces;
   const int width = current.width, height = current.height;
   out = in;
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
-  for_each_pixel(width, height, [&](size_t i, int x, int y) {
-    if (!surfaces[i].hit()) return;
+  for_each_pixel(width, height, rays, [&](size_t i, int x, int y) -> uint64_t {
+    if (!surfaces[i].hit()) return 0;
     const int neighbours = boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, 31);
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
@@ -169,7 +187,9 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       if (!similar(surfaces[i], n, surfaces[j], params)) continue;
       inputs[count++] = {&in[j], &current, j, in[j].M};
     }
-    out[i] = combine(view, inputs, count, params.bias, rng);
+    uint64_t traced = 0;
+    out[i] = combine(view, inputs, count, params, rng, traced);
+    return traced;
   });
 }
 

@@ -4,7 +4,7 @@
 // (spatial). Each input reservoir is one GRIS candidate (Lin et al. 2022) whose resampling MIS weight is
 //   none:  m_k = M_k / sum_z M_z                                (biased where the domains' targets differ)
 //   basic: m_k = M_k p_hat_k(y_k) / sum_z M_z p_hat_z(y_k)        (generalized balance heuristic, unbiased
-//          when candidates were not visibility-tested; costs k^2 target evaluations per pixel)
+//          when candidates were not visibility-tested, or with mis_visibility; k^2 target evaluations)
 //   pairwise: the pixel's own reservoir paired with each neighbour (see di_reuse.cpp); unbiased under the
 //          same condition, k target evaluations
 #include <vector>
@@ -30,6 +30,9 @@ struct DiReuseParams {
   float depth_tolerance = 0.1f;   // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
   DiBiasCorrection bias = DiBiasCorrection::Pairwise;
+  bool mis_visibility = false;    // basic: the MIS weights include visibility of the sample from each input's
+                                  // surface (unbiased also with candidate_visibility; (k+1)^2 shadow rays per
+                                  // pixel; temporal inputs are tested against this frame's geometry)
   float boiling_threshold = 0.0f; // > 0: after temporal reuse, drop reservoirs whose estimated contribution
                                   // exceeds this many times their 16x16 block's mean (biased: darkens; see
                                   // di_boiling_filter)
@@ -40,19 +43,19 @@ struct DiReuseParams {
 // Stage "di_temporal": reads this frame's G-buffer (motion), this and the previous frame's surfaces and
 // reservoirs, writes `out` (one combined reservoir per pixel) and `history_pixel` (the previous frame's
 // pixel whose reservoir was merged, or -1 where the history was lost). Reprojects with the motion vectors.
-// No rays.
+// No rays, except with mis_visibility.
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
-                       std::vector<int32_t>& history_pixel);
+                       std::vector<int32_t>& history_pixel, RayCounter& rays);
 
 // Stage "di_spatial": reads the surfaces and `in`, writes `out` combining each pixel with up to k
-// similar neighbours within the radius. No rays. `pass` selects its own random stream. With
+// similar neighbours within the radius. No rays, except with mis_visibility. `pass` selects its own random stream. With
 // `history_pixel` (temporal reuse ran), the first pass gives pixels without history
 // disocclusion_neighbours instead.
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
-                      std::vector<DiReservoir>& out);
+                      std::vector<DiReservoir>& out, RayCounter& rays);
 
 // Stage "di_boiling_filter": reads and rewrites the reservoirs. Temporal reuse can make a rare sample with
 // a huge contribution weight spread to its neighbours frame after frame ("boiling"); this drops every
