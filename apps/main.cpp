@@ -191,6 +191,9 @@ int main(int argc, char** argv) {
   render->add_option("--environment", r.environment,
                      "Uniform background radiance (grey); default: the built-in scene's own, 0.3 for glTF files")
       ->check(CLI::Range(0.0f, 1e6f));
+  render->add_flag("--no-jitter", [&r](int64_t) { r.settings.jitter = false; },
+                   "Primary rays through pixel centres instead of jittered positions (no anti-aliasing: isolates the "
+                   "light transport estimator in comparisons)");
   render->add_flag("--no-accumulate", [&r](int64_t) { r.settings.accumulate = false; },
                    "Output the last frame alone instead of accumulating frames while camera and scene are still");
   render->add_flag("--quiet,-q", r.quiet, "No progress output");
