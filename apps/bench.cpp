@@ -21,8 +21,9 @@
 namespace candela {
 
 void add_bench_options(CLI::App& app, BenchOptions& o) {
-  app.add_option("--suite", o.suite, "rays: primary/shadow ray throughput per scene; samplers: light selection cost and light tree build/refit")
-      ->check(CLI::IsMember({"rays", "samplers"}))->capture_default_str();
+  app.add_option("--suite", o.suite, "rays: primary/shadow ray throughput per scene; samplers: light selection cost and light tree build/refit; "
+                 "restir: a ReSTIR DI frame and its stages next to its own rays traced alone (use --width 640 --height 360)")
+      ->check(CLI::IsMember({"rays", "samplers", "restir"}))->capture_default_str();
   app.add_option("--scenes", o.scenes, "Scenes to measure (default: builtin:cornell builtin:manylights builtin:city "
                                        "and StainedGlassLamp from ../shared/scenes when present)");
   app.add_option("--width", o.width, "Image width of the ray batches")->check(CLI::Range(16, 16384))->capture_default_str();
@@ -31,6 +32,40 @@ void add_bench_options(CLI::App& app, BenchOptions& o) {
   app.add_option("--min-time", o.min_time, "Minimum seconds per benchmark repetition")->check(CLI::Range(0.01, 600.0))->capture_default_str();
   app.add_option("--repetitions", o.repetitions, "Repetitions; the summary quotes medians")->check(CLI::Range(1, 100))->capture_default_str();
   app.add_option("--filter", o.filter, "Regular expression selecting benchmarks by name")->capture_default_str();
+}
+
+std::vector<std::string> default_bench_scenes() {
+  std::vector<std::string> s = {"builtin:cornell", "builtin:manylights", "builtin:city"};
+  std::string lamp = std::string(CANDELA_SHARED_SCENES) + "/StainedGlassLamp/glTF-JPG-PNG/StainedGlassLamp.gltf";
+  if (std::filesystem::exists(lamp)) s.push_back(lamp);
+  return s;
+}
+
+std::string bench_scene_name(const std::string& source) {
+  if (source.rfind("builtin:", 0) == 0) return source.substr(8);
+  return std::filesystem::path(source).stem().string();
+}
+
+// Primary rays of the whole image in 4x4 packets through rtcIntersect16 only: the raw Embree ceiling.
+uint64_t raw_primary_packets(const Tracer& tracer, const Camera& cam) {
+  RayCounter rays;
+  for_each_tile(cam.width(), cam.height(), [&](const Tile& tile) {
+    RayPacket16 packet;
+    uint64_t n = 0;
+    for (int by = tile.y0; by < tile.y1; by += 4)
+      for (int bx = tile.x0; bx < tile.x1; bx += 4) {
+        for (int lane = 0; lane < 16; ++lane) {
+          int x = bx + (lane & 3), y = by + (lane >> 2);
+          if (x >= tile.x1 || y >= tile.y1) { packet.set_inactive(lane); continue; }
+          packet.set(lane, Ray{cam.position(), cam.direction(x + 0.5f, y + 0.5f), 0.0f, kInfinity});
+          ++n;
+        }
+        tracer.intersect16(packet, true);
+        benchmark::DoNotOptimize(packet.rayhit.hit.primID[0]);
+      }
+    rays.add(n);
+  });
+  return rays.count.load();
 }
 
 namespace {
@@ -44,40 +79,6 @@ struct BenchScene {
   GBuffer gbuffer;
 };
 
-std::vector<std::string> default_scenes() {
-  std::vector<std::string> s = {"builtin:cornell", "builtin:manylights", "builtin:city"};
-  std::string lamp = std::string(CANDELA_SHARED_SCENES) + "/StainedGlassLamp/glTF-JPG-PNG/StainedGlassLamp.gltf";
-  if (std::filesystem::exists(lamp)) s.push_back(lamp);
-  return s;
-}
-
-std::string short_name(const std::string& source) {
-  if (source.rfind("builtin:", 0) == 0) return source.substr(8);
-  return std::filesystem::path(source).stem().string();
-}
-
-// Primary rays of the whole image in 4x4 packets through rtcIntersect16 only: the raw Embree ceiling.
-uint64_t raw_primary_packets(const BenchScene& s) {
-  RayCounter rays;
-  const Camera& cam = s.camera;
-  for_each_tile(cam.width(), cam.height(), [&](const Tile& tile) {
-    RayPacket16 packet;
-    uint64_t n = 0;
-    for (int by = tile.y0; by < tile.y1; by += 4)
-      for (int bx = tile.x0; bx < tile.x1; bx += 4) {
-        for (int lane = 0; lane < 16; ++lane) {
-          int x = bx + (lane & 3), y = by + (lane >> 2);
-          if (x >= tile.x1 || y >= tile.y1) { packet.set_inactive(lane); continue; }
-          packet.set(lane, Ray{cam.position(), cam.direction(x + 0.5f, y + 0.5f), 0.0f, kInfinity});
-          ++n;
-        }
-        s.tracer->intersect16(packet, true);
-        benchmark::DoNotOptimize(packet.rayhit.hit.primID[0]);
-      }
-    rays.add(n);
-  });
-  return rays.count.load();
-}
 
 // One shadow ray per G-buffer hit towards a point on a light chosen by pixel hash (uniformly);
 // packets of 16 (rtcOccluded16) or single rays (rtcOccluded1).
@@ -164,7 +165,8 @@ BenchResults run_registered_benchmarks(const BenchOptions& o) {
 
 int run_bench(const BenchOptions& o) {
   if (o.suite == "samplers") return run_sampler_bench(o);
-  std::vector<std::string> sources = o.scenes.empty() ? default_scenes() : o.scenes;
+  if (o.suite == "restir") return run_restir_bench(o);
+  std::vector<std::string> sources = o.scenes.empty() ? default_bench_scenes() : o.scenes;
   std::vector<std::unique_ptr<BenchScene>> scenes;
   for (const std::string& source : sources) {
     auto s = std::make_unique<BenchScene>();
@@ -180,7 +182,7 @@ int run_bench(const BenchOptions& o) {
   std::vector<std::string> names;
   for (size_t k = 0; k < scenes.size(); ++k) {
     BenchScene* s = scenes[k].get();
-    std::string name = short_name(sources[k]);
+    std::string name = bench_scene_name(sources[k]);
     names.push_back(name);
     auto add = [&](const std::string& kind, std::function<uint64_t()> body) {
       benchmark::RegisterBenchmark((kind + "/" + name).c_str(), [body](benchmark::State& state) {
@@ -189,7 +191,7 @@ int run_bench(const BenchOptions& o) {
         state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
       })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
     };
-    add("raw_intersect16", [s] { return raw_primary_packets(*s); });
+    add("raw_intersect16", [s] { return raw_primary_packets(*s->tracer, s->camera); });
     add("gbuffer", [s] {
       RayCounter rays;
       trace_gbuffer(s->scene, *s->tracer, s->camera, s->camera, GBufferParams{1, 0, true}, s->gbuffer, rays);

@@ -9,7 +9,7 @@
 namespace candela {
 
 struct BenchOptions {
-  std::string suite = "rays";       // rays: ray throughput; samplers: light selection cost
+  std::string suite = "rays";       // rays: ray throughput; samplers: light selection cost; restir: ReSTIR DI frame
   std::vector<std::string> scenes;  // empty: the built-in scenes plus StainedGlassLamp when ../shared exists
   int width = 1280, height = 720;
   int threads = 0;
@@ -30,5 +30,16 @@ struct BenchResults {
 BenchResults run_registered_benchmarks(const BenchOptions& options);
 // The samplers suite (bench_samplers.cpp).
 int run_sampler_bench(const BenchOptions& options);
+// The restir suite (bench_restir.cpp).
+int run_restir_bench(const BenchOptions& options);
+
+// Shared by the suites: the default scenes (built-ins, plus StainedGlassLamp when ../shared exists), a
+// short name for a scene source, and primary rays through pixel centres in 4x4 packets through
+// rtcIntersect16 alone (returns the rays traced).
+class Tracer;
+class Camera;
+std::vector<std::string> default_bench_scenes();
+std::string bench_scene_name(const std::string& source);
+uint64_t raw_primary_packets(const Tracer& tracer, const Camera& camera);
 
 }  // namespace candela

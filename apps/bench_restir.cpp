@@ -1,0 +1,120 @@
+// `candela bench --suite restir`: one ReSTIR DI frame with the default parameters (8 light + 1 BSDF
+// candidates from the power sampler, temporal and one spatial pass, pairwise MIS, one shadow ray), still
+// camera, after 8 warm-up frames; next to it, the same frame's rays traced alone: its primary rays (4x4
+// packets through pixel centres), its BSDF-candidate rays and its shadow rays (single rays, as the stages
+// trace them), generated before the clock starts. The ratio frame / rays is what the stages between the
+// rays cost.
+#include <benchmark/benchmark.h>
+#include <tbb/parallel_for.h>
+
+#include <map>
+#include <memory>
+
+#include "apps/bench.h"
+#include "apps/renderer.h"
+#include "apps/scene_source.h"
+
+namespace candela {
+
+namespace {
+
+struct RestirBenchScene {
+  std::unique_ptr<Renderer> renderer;
+  CameraDesc camera;
+  int frame = 0;
+  std::vector<Ray> bsdf_rays, shadow_rays;
+  std::map<std::string, std::vector<double>> stage_ms;  // per stage, one entry per measured frame
+};
+
+// The rays of the renderer's last frame, rebuilt from its G-buffer and final reservoirs: per hit pixel one
+// BSDF-sampled ray (what each BSDF candidate traces) and one shadow ray to the final sample.
+void capture_rays(RestirBenchScene& s) {
+  const Renderer& r = *s.renderer;
+  const GBuffer& g = r.gbuffer();
+  const Camera camera(s.camera, g.width, g.height);
+  for (size_t i = 0; i < g.size(); ++i) {
+    if (!g.hit(i)) continue;
+    DiReceiver receiver = di_exact_receiver(g, camera.position(), r.lights(), i);
+    Rng rng = Rng::for_key(7, i, 0, 0xbe);
+    BsdfSample bs;
+    if (receiver.bsdf.sample(receiver.wo, vec2(rng.next_float(), rng.next_float()), rng.next_float(), bs))
+      s.bsdf_rays.push_back(r.tracer().spawn_ray(receiver.position, receiver.geometric_normal, bs.wi));
+    const DiReservoir& reservoir = r.di_reservoirs()[i];
+    if (reservoir.W <= 0.0f) continue;
+    LightSample ls = di_contribution(receiver, reservoir.y).light;
+    s.shadow_rays.push_back(shadow_ray(r.tracer(), receiver.position, receiver.geometric_normal, ls));
+  }
+}
+
+uint64_t trace_alone(const RestirBenchScene& s) {
+  const Tracer& tracer = s.renderer->tracer();
+  const GBuffer& g = s.renderer->gbuffer();
+  uint64_t rays = raw_primary_packets(tracer, Camera(s.camera, g.width, g.height));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, s.bsdf_rays.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t k = range.begin(); k < range.end(); ++k) benchmark::DoNotOptimize(tracer.intersect(s.bsdf_rays[k]));
+  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, s.shadow_rays.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t k = range.begin(); k < range.end(); ++k) benchmark::DoNotOptimize(tracer.occluded(s.shadow_rays[k]));
+  });
+  return rays + s.bsdf_rays.size() + s.shadow_rays.size();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+}  // namespace
+
+int run_restir_bench(const BenchOptions& o) {
+  std::vector<std::string> sources = o.scenes.empty() ? default_bench_scenes() : o.scenes;
+  std::vector<std::unique_ptr<RestirBenchScene>> scenes;
+  std::vector<std::string> names;
+  for (const std::string& source : sources) {
+    auto s = std::make_unique<RestirBenchScene>();
+    RenderSettings settings;
+    settings.width = o.width;
+    settings.height = o.height;
+    settings.method = Method::RestirDi;
+    settings.accumulate = false;
+    Scene scene = load_scene(source);
+    s->camera = scene.default_camera();
+    s->renderer = std::make_unique<Renderer>(std::move(scene), settings);
+    for (; s->frame < 8; ++s->frame) s->renderer->render_frame(s->frame, 0.0f, s->camera);
+    capture_rays(*s);
+    std::string name = bench_scene_name(source);
+    names.push_back(name);
+    RestirBenchScene* p = s.get();
+    benchmark::RegisterBenchmark(("restir_di_frame/" + name).c_str(), [p](benchmark::State& state) {
+      uint64_t rays = 0;
+      for (auto _ : state) {
+        FrameStats stats = p->renderer->render_frame(p->frame++, 0.0f, p->camera);
+        rays += stats.rays();
+        for (const StageStats& stage : stats.stages) p->stage_ms[stage.name].push_back(stage.ms);
+      }
+      state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+    })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
+    benchmark::RegisterBenchmark(("restir_di_rays_alone/" + name).c_str(), [p](benchmark::State& state) {
+      uint64_t rays = 0;
+      for (auto _ : state) rays += trace_alone(*p);
+      state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+    })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
+    scenes.push_back(std::move(s));
+  }
+  BenchResults results = run_registered_benchmarks(o);
+
+  std::printf("\nSummary at %dx%d (medians of %d repetitions; stages: medians over all measured frames), ms:\n", o.width,
+              o.height, o.repetitions);
+  for (size_t k = 0; k < names.size(); ++k) {
+    double frame = BenchResults::median(results.ns_per_iteration, "restir_di_frame/" + names[k]) * 1e-6;
+    double alone = BenchResults::median(results.ns_per_iteration, "restir_di_rays_alone/" + names[k]) * 1e-6;
+    std::printf("%-20s frame %8.1f | its rays alone %7.1f | frame / rays %5.2f |", names[k].c_str(), frame, alone,
+                alone > 0.0 ? frame / alone : 0.0);
+    for (const auto& [stage, ms] : scenes[k]->stage_ms) std::printf(" %s %.1f", stage.c_str(), median(ms));
+    std::printf("\n");
+  }
+  return 0;
+}
+
+}  // namespace candela
