@@ -13,7 +13,7 @@ static std::variant<NoDenoiser, BilateralDenoiser, Svgf> make_denoiser(const Den
   return NoDenoiser{};
 }
 
-Denoiser::Denoiser(const DenoiserParams& params) : kind_(params.kind), impl_(make_denoiser(params)) {}
+Denoiser::Denoiser(const DenoiserParams& params) : impl_(make_denoiser(params)) {}
 
 Image Denoiser::denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats) {
   CHECK(noisy.width == current.width && noisy.height == current.height);

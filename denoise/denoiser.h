@@ -26,10 +26,8 @@ class Denoiser {
   // call's frame (used by SVGF's reprojection; empty on the first frame). Stage times go into `stats`.
   Image denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats);
   void reset();
-  DenoiserKind kind() const { return kind_; }
 
  private:
-  DenoiserKind kind_;
   std::variant<NoDenoiser, BilateralDenoiser, Svgf> impl_;
 };
 
