@@ -22,8 +22,9 @@ namespace candela {
 
 void add_bench_options(CLI::App& app, BenchOptions& o) {
   app.add_option("--suite", o.suite, "rays: primary/shadow ray throughput per scene; samplers: light selection cost and light tree build/refit; "
-                 "restir: a ReSTIR DI frame and its stages next to its own rays traced alone (use --width 640 --height 360)")
-      ->check(CLI::IsMember({"rays", "samplers", "restir"}))->capture_default_str();
+                 "restir: a ReSTIR DI frame and its stages next to its own rays traced alone (use --width 640 --height 360); "
+                 "denoise: cross-bilateral and SVGF time per frame at 640x360 and 1280x720")
+      ->check(CLI::IsMember({"rays", "samplers", "restir", "denoise"}))->capture_default_str();
   app.add_option("--scenes", o.scenes, "Scenes to measure (default: builtin:cornell builtin:manylights builtin:city "
                                        "and StainedGlassLamp from ../shared/scenes when present)");
   app.add_option("--width", o.width, "Image width of the ray batches")->check(CLI::Range(16, 16384))->capture_default_str();
@@ -166,6 +167,7 @@ BenchResults run_registered_benchmarks(const BenchOptions& o) {
 int run_bench(const BenchOptions& o) {
   if (o.suite == "samplers") return run_sampler_bench(o);
   if (o.suite == "restir") return run_restir_bench(o);
+  if (o.suite == "denoise") return run_denoise_bench(o);
   std::vector<std::string> sources = o.scenes.empty() ? default_bench_scenes() : o.scenes;
   std::vector<std::unique_ptr<BenchScene>> scenes;
   for (const std::string& source : sources) {

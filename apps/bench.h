@@ -9,7 +9,8 @@
 namespace candela {
 
 struct BenchOptions {
-  std::string suite = "rays";       // rays: ray throughput; samplers: light selection cost; restir: ReSTIR DI frame
+  std::string suite = "rays";       // rays: ray throughput; samplers: light selection cost; restir: ReSTIR DI frame;
+                                    // denoise: denoiser time
   std::vector<std::string> scenes;  // empty: the built-in scenes plus StainedGlassLamp when ../shared exists
   int width = 1280, height = 720;
   int threads = 0;
@@ -30,6 +31,8 @@ struct BenchResults {
 BenchResults run_registered_benchmarks(const BenchOptions& options);
 // The samplers suite (bench_samplers.cpp).
 int run_sampler_bench(const BenchOptions& options);
+// The denoise suite (bench_denoise.cpp).
+int run_denoise_bench(const BenchOptions& options);
 // The restir suite (bench_restir.cpp).
 int run_restir_bench(const BenchOptions& options);
 

@@ -1,0 +1,130 @@
+#pragma once
+// The inner loop shared by the cross-bilateral filter and the a-trous iterations: a row is processed in
+// chunks of kLanes neighbouring pixels; for each tap of the kernel the chunk's lanes read kLanes
+// consecutive floats of every plane, which the compiler turns into vector loads. The geometric weights
+// (depth, normal; Schied et al. 2017, eq. 3-4, see EdgeStoppingParams) are computed here; a Kernel adds
+// its own range term (albedo, luminance) to the exponent and accumulates what it filters.
+#include <bit>
+#include <cstdint>
+
+#include "denoise/guides.h"
+#include "denoise/params.h"
+#include "engine/check.h"
+
+namespace candela {
+
+inline constexpr int kLanes = 8;
+
+// exp(-x) for x >= 0 with relative error below 3e-4: exp(-x) = 2^-n 2^-f with u = x log2(e) = n + f,
+// 2^-f by its degree-5 Taylor polynomial in f ln 2 (f in [0, 1)), 2^-n put into the exponent bits.
+// Branch- and call-free (u >= 0, so truncation is the floor), so loops over it vectorise; arguments
+// beyond 80 give exp(-80), which no weight sum notices.
+inline float fast_exp_neg(float x) {
+  float u = std::clamp(x, 0.0f, 80.0f) * 1.44269504f;
+  int32_t n = int32_t(u);
+  float f = (u - float(n)) * 0.693147181f;
+  float p = 1.0f - f * (1.0f - f * (0.5f - f * (1.0f / 6.0f - f * (1.0f / 24.0f - f * (1.0f / 120.0f)))));
+  return p * std::bit_cast<float>((127 - n) << 23);
+}
+
+// max(0, c)^128 by seven squarings.
+inline float normal_power(float c) {
+  float c2 = std::max(c, 0.0f) * std::max(c, 0.0f), c4 = c2 * c2, c8 = c4 * c4, c16 = c8 * c8, c32 = c16 * c16;
+  return (c32 * c32) * (c32 * c32);
+}
+
+inline bool any_filtered(const uint8_t* filtered, size_t i0, int lanes) {
+  for (int k = 0; k < lanes; ++k)
+    if (filtered[i0 + k]) return true;
+  return false;
+}
+
+struct Tap {
+  int dx, dy;  // offset in pixels
+  float h;     // kernel weight
+  int ring;    // Chebyshev distance in units of the stencil's spacing
+};
+
+inline constexpr int kMaxRings = 16;
+
+// The taps of a filter: the (2 rx + 1) x (2 ry + 1) grid of points `spacing` pixels apart, weighted by
+// h(tx, ty) (grid units). The depth weight's distance is d(p, q) = ring * spacing + 1.
+struct Stencil {
+  std::vector<Tap> taps;
+  int rings = 0, reach = 0;  // reach: largest |dx| in pixels
+  float spacing = 1.0f;
+
+  template <class H>
+  Stencil(int rx, int ry, int spacing_pixels, H&& h) : spacing(float(spacing_pixels)) {
+    for (int ty = -ry; ty <= ry; ++ty)
+      for (int tx = -rx; tx <= rx; ++tx)
+        taps.push_back(Tap{tx * spacing_pixels, ty * spacing_pixels, h(tx, ty), std::max(std::abs(tx), std::abs(ty))});
+    rings = std::max(rx, ry) + 1;
+    reach = rx * spacing_pixels;
+    CHECK(rings <= kMaxRings);
+  }
+};
+
+// Filters row y, pixels [x0, x0 + kLanes) (clipped to the image), over `taps`. kBorder: some tap may
+// fall outside the image horizontally (those taps are skipped per lane; slower, not vectorised).
+// Kernel: struct Chunk (its per-lane state); bool begin(Chunk&, i0, lanes) loads the centre pixels and
+// returns whether any lane needs filtering (if not, it has written the chunk's output itself);
+// float range(const Chunk&, k, q) is its term of the weight's exponent; gather(Chunk&, k, q, weight)
+// accumulates tap q into lane k; store(const Chunk&, i0, lanes) writes the result.
+template <bool kBorder, class Kernel>
+void filter_chunk(const Guides& g, const EdgeStoppingParams& e, const Stencil& stencil, int y, int x0,
+                  Kernel& kernel) {
+  const int w = g.width, h = g.height;
+  const size_t i0 = size_t(y) * size_t(w) + size_t(x0);
+  const int lanes = std::min(kLanes, w - x0);
+  typename Kernel::Chunk c;
+  if (!kernel.begin(c, i0, lanes)) return;
+  // Centre guides; inv_d[r] = 1 / (sigma_z s_p d + eps_p) for the taps of ring r.
+  float cz[kLanes], cnx[kLanes], cny[kLanes], cnz[kLanes], inv_d[kMaxRings][kLanes];
+  for (int k = 0; k < kLanes; ++k) {
+    size_t i = i0 + size_t(std::min(k, lanes - 1));
+    cz[k] = g.depth[i];
+    cnx[k] = g.nx[i];
+    cny[k] = g.ny[i];
+    cnz[k] = g.nz[i];
+  }
+  for (int r = 0; r < stencil.rings; ++r)
+    for (int k = 0; k < kLanes; ++k) {
+      size_t i = i0 + size_t(std::min(k, lanes - 1));
+      inv_d[r][k] = 1.0f / (e.sigma_depth * g.depth_slope[i] * (float(r) * stencil.spacing + 1.0f) + e.depth_epsilon * cz[k]);
+    }
+  const float* depth = g.depth.data();
+  const float *nx = g.nx.data(), *ny = g.ny.data(), *nz = g.nz.data();
+  for (const Tap& t : stencil.taps) {
+    const float* inv = inv_d[t.ring];
+    int qy = y + t.dy;
+    if (qy < 0 || qy >= h) continue;
+    const size_t row = size_t(qy) * size_t(w);
+    for (int k = 0; k < kLanes; ++k) {
+      int qx = x0 + k + t.dx;
+      if constexpr (kBorder) {
+        if (qx < 0 || qx >= w) continue;
+      }
+      size_t q = row + size_t(qx);
+      float ez = std::abs(cz[k] - depth[q]) * inv[k];
+      float wn = normal_power(cnx[k] * nx[q] + cny[k] * ny[q] + cnz[k] * nz[q]);
+      kernel.gather(c, k, q, t.h * wn * fast_exp_neg(ez + kernel.range(c, k, q)));
+    }
+  }
+  kernel.store(c, i0, lanes);
+}
+
+// Runs the kernel over the whole image, rows in parallel; chunks whose taps all stay inside the image
+// take the vectorised path.
+template <class Kernel>
+void filter_image(const Guides& g, const EdgeStoppingParams& e, const Stencil& stencil, Kernel& kernel) {
+  const int reach = stencil.reach;
+  for_each_row(g.height, [&](int y) {
+    for (int x0 = 0; x0 < g.width; x0 += kLanes) {
+      if (x0 >= reach && x0 + kLanes + reach <= g.width) filter_chunk<false>(g, e, stencil, y, x0, kernel);
+      else filter_chunk<true>(g, e, stencil, y, x0, kernel);
+    }
+  });
+}
+
+}  // namespace candela

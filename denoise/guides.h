@@ -1,0 +1,34 @@
+#pragma once
+// Per-pixel guides of the edge-stopping functions, gathered once per frame from the G-buffer into
+// contiguous float planes (the G-buffer keeps normals and albedo as vec3 arrays; the filters' inner loops
+// read 8 neighbouring pixels at once).
+#include <vector>
+
+#include "denoise/planes.h"
+#include "engine/gbuffer.h"
+
+namespace candela {
+
+struct Guides {
+  int width = 0, height = 0;
+  std::vector<float> depth;        // linear view depth; kInfinity where nothing was hit
+  std::vector<float> depth_slope;  // |dz/dx| + |dz/dy| (per pixel) on the pixel's own surface; 0 off hits
+  std::vector<float> nx, ny, nz;   // shading normal; 0 where the pixel is not filtered, so every normal
+                                   // weight towards it is 0 and no filter gathers from it
+  ColorPlanes albedo;
+  // 1 where the pixel is filtered: a surface was hit and no hit pixel of its 3x3 block has a different
+  // emission. At an emitter's border, demodulation cannot be trusted: the radiance's own primary samples
+  // may land elsewhere in the pixel than the G-buffer's (the path tracer jitters them independently),
+  // and then L - Le is off by a whole emitter's radiance; those pixels keep their input and feed no
+  // filter. Inside an emitter, the reflected light L - Le is filtered like any other.
+  std::vector<uint8_t> filtered;
+
+  size_t size() const { return size_t(width) * size_t(height); }
+};
+
+// Stage "denoise_guides": reads the G-buffer's depth, shading normal, albedo, emission and instance
+// planes; writes every plane of `out`. One pass, O(pixels); the slope reads the 4 neighbours' depth and
+// instance, the filtered mask the 3x3 block's emission.
+void compute_guides(const GBuffer& g, Guides& out);
+
+}  // namespace candela

@@ -1,0 +1,40 @@
+#include "denoise/svgf.h"
+
+#include "denoise/demodulate.h"
+#include "engine/check.h"
+
+namespace candela {
+
+Svgf::Svgf(const SvgfParams& params) : params_(params) {
+  CHECK(params.atrous_iterations >= 1 && params.alpha_color > 0.0f && params.alpha_moments > 0.0f);
+  CHECK(params.max_history >= 1.0f && params.sigma_luminance > 0.0f);
+}
+
+Image Svgf::denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats) {
+  prepare_frame(current, noisy, guides_, illumination_, stats);
+  {
+    StageTimer timer(stats, "svgf_temporal");
+    svgf_temporal(current, previous, guides_, illumination_, history_, params_, atrous_[0], moments_);
+  }
+  {
+    StageTimer timer(stats, "svgf_variance");
+    svgf_variance(guides_, moments_, params_, atrous_[0].variance);
+    std::swap(history_.moments, moments_);
+  }
+  int last = 0;
+  {
+    StageTimer timer(stats, "svgf_atrous");
+    for (int k = 0; k < params_.atrous_iterations; ++k) {
+      svgf_atrous_iteration(guides_, params_, 1 << k, atrous_[last], scale_, atrous_[1 - last]);
+      last = 1 - last;
+      // The first iteration's output is the next frame's colour history (sec. 4.1).
+      if (k == 0) history_.color = atrous_[last].color;
+    }
+  }
+  history_.filtered = guides_.filtered;
+  history_.valid = true;
+  StageTimer timer(stats, "denoise_remodulate");
+  return remodulate(atrous_[last].color, current, guides_, noisy);
+}
+
+}  // namespace candela

@@ -1,0 +1,103 @@
+#include "denoise/edge_stopping.h"
+#include "denoise/svgf_stages.h"
+#include "engine/check.h"
+
+namespace candela {
+
+namespace {
+
+// B3-spline weights (1, 4, 6, 4, 1) / 16 (Schied et al. 2017, sec. 4.3).
+constexpr float kB3[5] = {1.0f / 16.0f, 1.0f / 4.0f, 3.0f / 8.0f, 1.0f / 4.0f, 1.0f / 16.0f};
+
+// scale = 1 / (sigma_l sqrt(g3x3(Var)) + eps) at hit pixels: the variance prefiltered with the 3x3
+// Gaussian (1, 2, 1)^2 / 16 (sec. 4.3, "we prefilter the variance with a 3x3 Gaussian"), borders clamped.
+void luminance_scale(const Guides& guides, const SvgfParams& params, const std::vector<float>& variance,
+                     std::vector<float>& scale) {
+  const int w = guides.width, h = guides.height;
+  for_each_row(h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      size_t i = size_t(y) * w + x;
+      if (!guides.filtered[i]) continue;
+      float sum = 0.0f;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          int qx = std::clamp(x + dx, 0, w - 1), qy = std::clamp(y + dy, 0, h - 1);
+          sum += float((2 - std::abs(dx)) * (2 - std::abs(dy))) * variance[size_t(qy) * w + qx];
+        }
+      scale[i] = 1.0f / (params.sigma_luminance * std::sqrt(sum * (1.0f / 16.0f)) + params.luminance_epsilon);
+    }
+  });
+}
+
+// Filters colour and variance with the luminance range term (eq. 5) and the squared weights for the
+// variance (eq. 2).
+struct AtrousKernel {
+  const float *r, *g, *b, *l, *var;  // input colour, luminance, variance
+  const float* scale;
+  const uint8_t* filtered;
+  const AtrousPlanes& in;
+  AtrousPlanes& out;
+
+  AtrousKernel(const Guides& guides, const AtrousPlanes& in, const std::vector<float>& scale, AtrousPlanes& out)
+      : r(in.color.r.data()), g(in.color.g.data()), b(in.color.b.data()), l(in.luminance.data()),
+        var(in.variance.data()), scale(scale.data()), filtered(guides.filtered.data()), in(in), out(out) {}
+
+  struct Chunk {
+    float l[kLanes], s[kLanes];
+    float sw[kLanes] = {}, sr[kLanes] = {}, sg[kLanes] = {}, sb[kLanes] = {}, sv[kLanes] = {};
+  };
+  void copy(size_t i) const {
+    out.color.set(i, in.color.at(i));
+    out.luminance[i] = in.luminance[i];
+    out.variance[i] = in.variance[i];
+  }
+  bool begin(Chunk& c, size_t i0, int lanes) const {
+    if (!any_filtered(filtered, i0, lanes)) {
+      for (int k = 0; k < lanes; ++k) copy(i0 + k);
+      return false;
+    }
+    for (int k = 0; k < kLanes; ++k) {
+      size_t i = i0 + size_t(std::min(k, lanes - 1));
+      c.l[k] = l[i];
+      c.s[k] = scale[i];
+    }
+    return true;
+  }
+  float range(const Chunk& c, int k, size_t q) const { return std::abs(c.l[k] - l[q]) * c.s[k]; }
+  void gather(Chunk& c, int k, size_t q, float w) const {
+    c.sw[k] += w;
+    c.sr[k] += w * r[q];
+    c.sg[k] += w * g[q];
+    c.sb[k] += w * b[q];
+    c.sv[k] += w * w * var[q];
+  }
+  void store(const Chunk& c, size_t i0, int lanes) const {
+    for (int k = 0; k < lanes; ++k) {
+      size_t i = i0 + size_t(k);
+      if (!filtered[i]) {
+        copy(i);
+        continue;
+      }
+      // The centre tap's weight is h(0)^2 > 0, so sw > 0 at a filtered pixel.
+      vec3 color = vec3(c.sr[k], c.sg[k], c.sb[k]) / c.sw[k];
+      out.color.set(i, color);
+      out.luminance[i] = luminance(color);
+      out.variance[i] = c.sv[k] / (c.sw[k] * c.sw[k]);
+    }
+  }
+};
+
+}  // namespace
+
+void svgf_atrous_iteration(const Guides& guides, const SvgfParams& params, int step, const AtrousPlanes& in,
+                           std::vector<float>& scale, AtrousPlanes& out) {
+  CHECK(step >= 1 && in.color.width == guides.width && in.color.height == guides.height);
+  if (out.color.width != guides.width || out.color.height != guides.height) out.resize(guides.width, guides.height);
+  scale.resize(guides.size());
+  luminance_scale(guides, params, in.variance, scale);
+  Stencil stencil(2, 2, step, [](int tx, int ty) { return kB3[tx + 2] * kB3[ty + 2]; });
+  AtrousKernel kernel(guides, in, scale, out);
+  filter_image(guides, params.edges, stencil, kernel);
+}
+
+}  // namespace candela
