@@ -34,6 +34,7 @@ struct RenderOptions {
   std::string di_reuse = "both";
   std::string di_bias = "pairwise";
   std::string aov = "none";
+  std::string denoise = "none";
   RenderSettings settings;
 };
 
@@ -63,6 +64,9 @@ int run_render(RenderOptions& o) {
   const std::map<std::string, LightSamplerKind> samplers = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
                                                             {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
   o.settings.light_sampler = samplers.at(o.light_sampler);
+  o.settings.denoise.kind = o.denoise == "bilateral" ? DenoiserKind::Bilateral
+                            : o.denoise == "svgf"    ? DenoiserKind::Svgf
+                                                     : DenoiserKind::None;
   o.settings.di_reuse.temporal = o.di_reuse == "temporal" || o.di_reuse == "both";
   o.settings.di_reuse.spatial = o.di_reuse == "spatial" || o.di_reuse == "both";
   o.settings.di_reuse.bias = o.di_bias == "none"    ? DiBiasCorrection::None
@@ -173,6 +177,10 @@ int main(int argc, char** argv) {
   render->add_option("--di-history-cap", r.settings.di_reuse.history_cap,
                      "restir-di: the previous frame's reservoir counts at most this many times the current M")
       ->check(CLI::Range(0.0f, 1000.0f))->capture_default_str();
+  render->add_option("--denoise", r.denoise,
+                     "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
+                     "(spatiotemporal variance-guided filtering); both demodulate by albedo")
+      ->check(CLI::IsMember({"none", "bilateral", "svgf"}))->capture_default_str();
   render->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
       ->check(CLI::IsMember({"uniform", "power", "tree", "exhaustive"}))->capture_default_str();
   render->add_option("--time-budget-ms", r.settings.time_budget_ms,

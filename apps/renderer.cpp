@@ -20,7 +20,8 @@ Renderer::Renderer(Scene scene, const RenderSettings& settings)
       tracer_(std::make_unique<Tracer>(scene_)),
       lights_(scene_),
       prev_lights_(scene_.motions.empty() ? LightList() : lights_),
-      sampler_(make_light_sampler(settings.light_sampler, lights_)) {
+      sampler_(make_light_sampler(settings.light_sampler, lights_)),
+      denoiser_(settings.denoise) {
   CHECK(settings.width > 0 && settings.height > 0 && settings.spp > 0);
   sum_ = Image(settings.width, settings.height);
 }
@@ -94,6 +95,9 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
     if (progress) progress(done, settings_.time_budget_ms > 0.0 ? 0 : settings_.spp);
   }
   stats.spp = done;
+  // Stage(s) of the denoiser (timed inside): the displayed image, filtered with this frame's G-buffer and
+  // reprojected with last frame's.
+  if (settings_.denoise.kind != DenoiserKind::None) denoised_ = denoiser_.denoise(gbuffer_, prev_gbuffer_, noisy_image(), stats);
   stats.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }
@@ -160,6 +164,10 @@ void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, 
 }
 
 Image Renderer::image() const {
+  return settings_.denoise.kind != DenoiserKind::None && denoised_.width == sum_.width ? denoised_ : noisy_image();
+}
+
+Image Renderer::noisy_image() const {
   Image out(sum_.width, sum_.height);
   float inv = accumulated_spp_ > 0 ? 1.0f / float(accumulated_spp_) : 0.0f;
   for (size_t i = 0; i < out.pixels.size(); ++i) out.pixels[i] = sum_.pixels[i] * inv;

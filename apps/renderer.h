@@ -15,6 +15,7 @@
 #include "engine/scene.h"
 #include "engine/path_tracer.h"
 #include "engine/tracer.h"
+#include "denoise/denoiser.h"
 #include "restir/di.h"
 #include "restir/di_reuse.h"
 #include "samplers/light_tree.h"
@@ -40,6 +41,7 @@ struct RenderSettings {
   double time_budget_ms = 0.0; // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
   DiParams di;                 // restir-di: initial candidates
   DiReuseParams di_reuse;      // restir-di: temporal and spatial reuse
+  DenoiserParams denoise;      // the denoiser that finishes each frame (none by default)
 };
 
 using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler, LightTreeSampler, ExhaustiveLightSampler>;
@@ -53,8 +55,11 @@ class Renderer {
   // with a time budget).
   FrameStats render_frame(int frame_index, float time, const CameraDesc& camera,
                           const std::function<void(int, int)>& progress = {});
-  // The displayed image: accumulated radiance divided by the samples accumulated so far.
+  // The displayed image: accumulated radiance divided by the samples accumulated so far, denoised when
+  // a denoiser is set.
   Image image() const;
+  // The same before the denoiser.
+  Image noisy_image() const;
   int accumulated_spp() const { return accumulated_spp_; }
   const GBuffer& gbuffer() const { return gbuffer_; }
   // restir-di: the reservoirs the last frame shaded with (empty for other methods).
@@ -87,6 +92,8 @@ class Renderer {
   std::vector<DiVisibility> di_visibility_, prev_di_visibility_;  // final shadow-ray verdicts, this and last pass  // light only BSDF candidates reach (environment, unlisted emitters)
   Image sum_;
   int accumulated_spp_ = 0;
+  Denoiser denoiser_;
+  Image denoised_;
 };
 
 AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& lights);
