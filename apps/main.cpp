@@ -33,6 +33,8 @@ struct RenderOptions {
   std::string light_sampler = "power";
   std::string di_reuse = "both";
   std::string di_bias = "pairwise";
+  std::string gi_reuse = "both";
+  std::string gi_bias = "pairwise";
   std::string aov = "none";
   std::string denoise = "none";
   RenderSettings settings;
@@ -53,13 +55,54 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
     throw InputError(std::string(option) + " " + path + ": directory " + dir.string() + " does not exist");
 }
 
+// The reuse options ReSTIR DI and GI share, as --PREFIX-NAME ("di" or "gi"), documented for `method`.
+void add_reuse_options(CLI::App& render, const std::string& prefix, const std::string& method, DiReuseParams& p,
+                       std::string& reuse, std::string& bias) {
+  auto name = [&](const char* option) { return "--" + prefix + "-" + option; };
+  auto doc = [&](const std::string& text) { return method + ": " + text; };
+  render.add_option(name("reuse"), reuse, doc("reuse stages"))
+      ->check(CLI::IsMember({"none", "temporal", "spatial", "both"}))->capture_default_str();
+  render.add_option(name("bias"), bias,
+                    doc("bias correction of reuse: none (1/M), basic (generalized balance heuristic, k^2 target "
+                        "evaluations) or pairwise (pairwise MIS, k evaluations)"))
+      ->check(CLI::IsMember({"none", "basic", "pairwise"}))->capture_default_str();
+  render.add_option(name("neighbours"), p.spatial_neighbours, doc("spatial neighbours per pass"))
+      ->check(CLI::Range(0, 31))->capture_default_str();
+  render.add_option(name("radius"), p.spatial_radius, doc("spatial reuse radius in pixels"))
+      ->check(CLI::Range(1.0f, 1000.0f))->capture_default_str();
+  render.add_option(name("spatial-passes"), p.spatial_passes, doc("spatial reuse passes"))->check(CLI::Range(1, 8))->capture_default_str();
+  render.add_option(name("disocclusion-neighbours"), p.disocclusion_neighbours,
+                    doc("spatial neighbours (first pass) for pixels whose temporal history was lost"))
+      ->check(CLI::Range(0, 31))->capture_default_str();
+  render.add_option(name("boiling-filter"), p.boiling_threshold,
+                    doc("drop reservoirs whose estimated contribution exceeds this many times their 16x16 block's "
+                        "mean, after temporal reuse (0 = off; biased: removes energy)"))
+      ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
+  render.add_option(name("visibility-reuse"), p.visibility_reuse_frames,
+                    doc("reuse last frame's final shadow-ray verdict where a pixel keeps its temporal history's "
+                        "sample, for at most this many frames in a row (0 = off; biased where occluders move)"))
+      ->check(CLI::Range(0, 255))->capture_default_str();
+  render.add_flag(name("permutation"), p.permutation_sampling,
+                  doc("permutation sampling of the previous frame (decorrelates frames for a denoiser)"));
+  render.add_option(name("history-cap"), p.history_cap,
+                    doc("the previous frame's reservoir counts at most this many times the current M"))
+      ->check(CLI::Range(0.0f, 1000.0f))->capture_default_str();
+}
+
+// Applies the --PREFIX-reuse and --PREFIX-bias choices to the parameters.
+void apply_reuse_choices(DiReuseParams& p, const std::string& reuse, const std::string& bias) {
+  p.temporal = reuse == "temporal" || reuse == "both";
+  p.spatial = reuse == "spatial" || reuse == "both";
+  p.bias = bias == "none" ? DiBiasCorrection::None : bias == "basic" ? DiBiasCorrection::Basic : DiBiasCorrection::Pairwise;
+}
+
 // Renders `frames` frames (scene time advances by 1/fps per frame), prints progress and per-frame
 // timings, writes the last frame's image and optionally the stats of every frame.
 int run_render(RenderOptions& o) {
   if (int64_t(o.settings.width) * o.settings.height > (int64_t(1) << 26))
     throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
   check_output_path(o.out, {".exr", ".png"}, "--out");
-  if (o.aov != "none" && o.method != "restir-di") throw InputError("--aov " + o.aov + ": needs --method restir-di");
+  if (o.aov != "none" && o.method.rfind("restir", 0) != 0) throw InputError("--aov " + o.aov + ": needs --method restir-di or restir");
   if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
   const std::map<std::string, LightSamplerKind> samplers = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
                                                             {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
@@ -67,12 +110,12 @@ int run_render(RenderOptions& o) {
   o.settings.denoise.kind = o.denoise == "bilateral" ? DenoiserKind::Bilateral
                             : o.denoise == "svgf"    ? DenoiserKind::Svgf
                                                      : DenoiserKind::None;
-  o.settings.di_reuse.temporal = o.di_reuse == "temporal" || o.di_reuse == "both";
-  o.settings.di_reuse.spatial = o.di_reuse == "spatial" || o.di_reuse == "both";
-  o.settings.di_reuse.bias = o.di_bias == "none"    ? DiBiasCorrection::None
-                             : o.di_bias == "basic" ? DiBiasCorrection::Basic
-                                                    : DiBiasCorrection::Pairwise;
-  o.settings.method = o.method == "direct" ? Method::Direct : o.method == "restir-di" ? Method::RestirDi : Method::PathTrace;
+  apply_reuse_choices(o.settings.di_reuse, o.di_reuse, o.di_bias);
+  apply_reuse_choices(o.settings.gi_reuse, o.gi_reuse, o.gi_bias);
+  o.settings.method = o.method == "direct"      ? Method::Direct
+                      : o.method == "restir-di" ? Method::RestirDi
+                      : o.method == "restir"    ? Method::Restir
+                                                : Method::PathTrace;
   BuiltinOptions builtin;
   builtin.light_count = o.lights;
   auto t0 = std::chrono::steady_clock::now();
@@ -136,8 +179,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1024))->capture_default_str();
   render->add_option("--method", r.method,
                      "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF sample "
-                     "combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling)")
-      ->check(CLI::IsMember({"pt", "direct", "restir-di"}))->capture_default_str();
+                     "combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling), restir "
+                     "(restir-di plus ReSTIR GI for indirect light, paths up to --max-depth)")
+      ->check(CLI::IsMember({"pt", "direct", "restir-di", "restir"}))->capture_default_str();
   render->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   render->add_option("--di-bsdf-candidates", r.settings.di.bsdf_candidates,
@@ -146,37 +190,21 @@ int main(int argc, char** argv) {
   render->add_flag("--di-visibility", r.settings.di.candidate_visibility,
                    "restir-di: trace a shadow ray to the chosen candidate before reuse (drops occluded choices; "
                    "the basic bias correction is then no longer exactly unbiased)");
-  render->add_option("--di-reuse", r.di_reuse, "restir-di: reuse stages")
-      ->check(CLI::IsMember({"none", "temporal", "spatial", "both"}))->capture_default_str();
-  render->add_option("--di-bias", r.di_bias,
-                     "restir-di: bias correction of reuse: none (1/M), basic (generalized balance heuristic, k^2 target "
-                     "evaluations) or pairwise (pairwise MIS, k evaluations)")
-      ->check(CLI::IsMember({"none", "basic", "pairwise"}))->capture_default_str();
   render->add_flag("--di-mis-visibility", r.settings.di_reuse.mis_visibility,
                    "restir-di, --di-bias basic: include visibility in the reuse MIS weights (unbiased also with "
                    "--di-visibility; (k+1)^2 shadow rays per pixel)");
-  render->add_option("--di-neighbours", r.settings.di_reuse.spatial_neighbours, "restir-di: spatial neighbours per pass")
-      ->check(CLI::Range(0, 31))->capture_default_str();
-  render->add_option("--di-radius", r.settings.di_reuse.spatial_radius, "restir-di: spatial reuse radius in pixels")
-      ->check(CLI::Range(1.0f, 1000.0f))->capture_default_str();
-  render->add_option("--di-spatial-passes", r.settings.di_reuse.spatial_passes, "restir-di: spatial reuse passes")
-      ->check(CLI::Range(1, 8))->capture_default_str();
-  render->add_option("--di-disocclusion-neighbours", r.settings.di_reuse.disocclusion_neighbours,
-                     "restir-di: spatial neighbours (first pass) for pixels whose temporal history was lost")
-      ->check(CLI::Range(0, 31))->capture_default_str();
-  render->add_option("--di-boiling-filter", r.settings.di_reuse.boiling_threshold,
-                     "restir-di: drop reservoirs whose estimated contribution exceeds this many times their 16x16 block's "
-                     "mean, after temporal reuse (0 = off; biased: removes energy)")
+  add_reuse_options(*render, "di", "restir-di", r.settings.di_reuse, r.di_reuse, r.di_bias);
+  add_reuse_options(*render, "gi", "restir (GI)", r.settings.gi_reuse, r.gi_reuse, r.gi_bias);
+  render->add_option("--gi-max-jacobian", r.settings.gi_reuse.max_jacobian,
+                     "restir: reject a reused GI sample whose reconnection Jacobian exceeds this (0 = off, unbiased; "
+                     "> 0 removes fireflies at the price of bias)")
       ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
-  render->add_option("--di-visibility-reuse", r.settings.di_reuse.visibility_reuse_frames,
-                     "restir-di: reuse last frame's final shadow-ray verdict where a pixel keeps its temporal history's "
-                     "sample, for at most this many frames in a row (0 = off; biased where occluders move)")
-      ->check(CLI::Range(0, 255))->capture_default_str();
-  render->add_flag("--di-permutation", r.settings.di_reuse.permutation_sampling,
-                   "restir-di: permutation sampling of the previous frame (decorrelates frames for a denoiser)");
-  render->add_option("--di-history-cap", r.settings.di_reuse.history_cap,
-                     "restir-di: the previous frame's reservoir counts at most this many times the current M")
-      ->check(CLI::Range(0.0f, 1000.0f))->capture_default_str();
+  render->add_option("--gi-min-roughness", r.settings.gi_reuse.min_roughness,
+                     "restir: pixels smoother than this keep their own GI sample (no reuse on glossy surfaces)")
+      ->check(CLI::Range(0.0f, 1.0f))->capture_default_str();
+  render->add_option("--gi-max-age", r.settings.gi_reuse.max_sample_age,
+                     "restir: temporal reuse drops GI samples older than this many frames (0 = no limit)")
+      ->check(CLI::Range(0, 65535))->capture_default_str();
   render->add_option("--denoise", r.denoise,
                      "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
                      "(spatiotemporal variance-guided filtering); both demodulate by albedo")

@@ -87,8 +87,9 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   };
   int done = 0;
   while (more(done)) {
-    int pass = settings_.method == Method::RestirDi || settings_.time_budget_ms > 0.0 ? 1 : std::min(4, settings_.spp - done);
-    if (settings_.method == Method::RestirDi) restir_di_pass(view, frame_index, done, stats);
+    const bool restir = settings_.method == Method::RestirDi || settings_.method == Method::Restir;
+    int pass = restir || settings_.time_budget_ms > 0.0 ? 1 : std::min(4, settings_.spp - done);
+    if (restir) restir_pass(view, frame_index, done, stats);
     else path_trace_pass(view, frame_index, pass, stats);
     done += pass;
     accumulated_spp_ += pass;
@@ -110,57 +111,88 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, 
   params.first_sample = accumulated_spp_;
   params.max_depth = settings_.method == Method::Direct ? 1 : settings_.max_depth;
   params.seed = settings_.seed;
+  params.jitter = settings_.jitter;
   std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
 }
 
-// Stages "di_surfaces" (first pass of a frame), "di_candidates", "di_temporal" (first pass, once there is
-// history), "di_boiling_filter" (optional), "di_spatial" (per spatial pass) and "di_shade": one ReSTIR DI
-// estimate per pixel added into the sum; the final reservoirs and shadow-ray verdicts become the next
-// pass's history. Each pass of each frame draws its own random streams.
-void Renderer::restir_di_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats) {
-  DiParams params = settings_.di;
-  params.seed = settings_.seed;
-  DiReuseParams reuse = settings_.di_reuse;
-  reuse.seed = settings_.seed;
-  int key = frame_index * 4096 + pass;
+DiDomain Renderer::current_domain() const {
+  return {di_surfaces_, gbuffer_.width, gbuffer_.height, camera_.position(), lights_};
+}
+
+DiDomain Renderer::previous_domain() const {
+  return {prev_di_surfaces_, gbuffer_.width, gbuffer_.height, prev_camera_.position(), lights_moved_ ? prev_lights_ : lights_};
+}
+
+// Stages "di_surfaces" (first pass of a frame), "di_candidates", then ReSTIR DI's reuse and shading; for
+// restir also "gi_samples" and ReSTIR GI's reuse and shading: one estimate per pixel of direct (and
+// indirect) light added into the sum. Each pass of each frame draws its own random streams.
+void Renderer::restir_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats) {
+  const int key = frame_index * 4096 + pass;
   if (pass == 0) {
     StageTimer timer(stats, "di_surfaces");
     std::swap(di_surfaces_, prev_di_surfaces_);
     pack_di_surfaces(gbuffer_, di_surfaces_);
   }
-  const DiDomain current{di_surfaces_, gbuffer_.width, gbuffer_.height, camera_.position(), lights_},
-      previous{prev_di_surfaces_, gbuffer_.width, gbuffer_.height, prev_camera_.position(), lights_moved_ ? prev_lights_ : lights_};
-  {
-    StageTimer timer(stats, "di_candidates");
-    std::visit([&](const auto& sampler) {
-      di_initial_candidates(view, sampler, gbuffer_, current, params, key, reservoirs_, di_unsampled_, timer.rays());
-    }, sampler_);
+  const DiDomain current = current_domain();
+  if (!settings_.gi_only) {
+    DiParams params = settings_.di;
+    params.seed = settings_.seed;
+    {
+      StageTimer timer(stats, "di_candidates");
+      std::visit([&](const auto& sampler) {
+        di_initial_candidates(view, sampler, gbuffer_, current, params, key, di_.initial, di_unsampled_, timer.rays());
+      }, sampler_);
+    }
+    DiReuseParams reuse = settings_.di_reuse;
+    reuse.seed = settings_.seed;
+    reuse_and_shade(view, "di", reuse, key, pass, &di_unsampled_, di_, stats);
   }
-  const std::vector<DiReservoir>* result = &reservoirs_;
-  const bool temporal = reuse.temporal && pass == 0 && history_.size() == gbuffer_.size();
+  if (settings_.method != Method::Restir) return;
+  GiParams params;
+  params.max_depth = settings_.max_depth;
+  params.seed = mix64(settings_.seed ^ 0x6769);
+  {
+    StageTimer timer(stats, "gi_samples");
+    std::visit([&](const auto& sampler) { gi_initial_samples(view, sampler, gbuffer_, current, params, key, gi_.initial, timer.rays()); },
+               sampler_);
+  }
+  DiReuseParams reuse = settings_.gi_reuse;
+  reuse.seed = params.seed;
+  reuse_and_shade(view, "gi", reuse, key, pass, nullptr, gi_, stats);
+}
+
+// Stages "<prefix>_temporal" (first pass of a frame, once there is history), "<prefix>_boiling_filter"
+// (optional), "<prefix>_spatial" (per spatial pass) and "<prefix>_shade": reuses chain.initial across
+// frames and pixels and adds one estimate per pixel into the sum (plus emission seen and `unsampled`,
+// when given); the final reservoirs and shadow-ray verdicts become the chain's history.
+void Renderer::reuse_and_shade(const SceneView& view, const std::string& prefix, const DiReuseParams& reuse, int key,
+                               int pass, const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats) {
+  const DiDomain current = current_domain(), previous = previous_domain();
+  const std::vector<DiReservoir>* result = &chain.initial;
+  const bool temporal = reuse.temporal && pass == 0 && chain.history.size() == gbuffer_.size();
   if (temporal) {
-    StageTimer timer(stats, "di_temporal");
-    di_temporal_reuse(view, gbuffer_, current, previous, *result, history_, reuse, key, temporal_, di_history_pixel_,
-                      timer.rays());
-    result = &temporal_;
+    StageTimer timer(stats, prefix + "_temporal");
+    di_temporal_reuse(view, gbuffer_, current, previous, *result, chain.history, reuse, key, chain.temporal,
+                      chain.history_pixel, timer.rays());
+    result = &chain.temporal;
   }
   if (temporal && reuse.boiling_threshold > 0.0f) {
-    StageTimer timer(stats, "di_boiling_filter");
-    di_boiling_filter(current, reuse.boiling_threshold, temporal_);
+    StageTimer timer(stats, prefix + "_boiling_filter");
+    di_boiling_filter(current, reuse.boiling_threshold, chain.temporal);
   }
   for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
-    StageTimer timer(stats, "di_spatial");
-    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &di_history_pixel_ : nullptr, spatial_[k % 2],
+    StageTimer timer(stats, prefix + "_spatial");
+    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr, chain.spatial[k % 2],
                      timer.rays());
-    result = &spatial_[k % 2];
+    result = &chain.spatial[k % 2];
   }
   {
-    StageTimer timer(stats, "di_shade");
-    std::swap(di_visibility_, prev_di_visibility_);
-    DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &di_history_pixel_ : nullptr, &prev_di_visibility_};
-    di_shade(view, gbuffer_, *result, di_unsampled_, visibility, di_visibility_, sum_, timer.rays());
+    StageTimer timer(stats, prefix + "_shade");
+    std::swap(chain.visibility, chain.prev_visibility);
+    DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr, &chain.prev_visibility};
+    di_shade(view, gbuffer_, *result, unsampled, visibility, chain.visibility, sum_, timer.rays());
   }
-  history_ = *result;
+  chain.history = *result;
 }
 
 Image Renderer::image() const {

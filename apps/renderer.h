@@ -18,6 +18,7 @@
 #include "denoise/denoiser.h"
 #include "restir/di.h"
 #include "restir/di_reuse.h"
+#include "restir/gi.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
 
@@ -25,9 +26,19 @@ namespace candela {
 
 // pt: the reference path tracer; direct: the same estimator stopped after one bounce (emission seen
 // plus light sampling and a BSDF sample combined by MIS at the first hit); restir-di: direct light by
-// resampled importance sampling at the G-buffer's points, reused across pixels and frames.
-enum class Method { PathTrace, Direct, RestirDi };
+// resampled importance sampling at the G-buffer's points, reused across pixels and frames; restir: restir-di
+// plus ReSTIR GI for the indirect light (paths up to max_depth).
+enum class Method { PathTrace, Direct, RestirDi, Restir };
 enum class LightSamplerKind { Uniform, Power, Tree, Exhaustive };
+
+// ReSTIR GI's reuse defaults: ReSTIR DI's, plus no reuse on surfaces smoother than roughness 0.2 and
+// samples at most 30 frames old (unbiased: the Jacobian rejection is off).
+inline DiReuseParams default_gi_reuse() {
+  DiReuseParams p;
+  p.min_roughness = 0.2f;
+  p.max_sample_age = 30;
+  return p;
+}
 
 struct RenderSettings {
   int width = 640, height = 360;
@@ -41,7 +52,18 @@ struct RenderSettings {
   double time_budget_ms = 0.0; // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
   DiParams di;                 // restir-di: initial candidates
   DiReuseParams di_reuse;      // restir-di: temporal and spatial reuse
+  DiReuseParams gi_reuse = default_gi_reuse();  // restir: reuse of the GI samples
+  bool gi_only = false;        // restir: shade the indirect light alone (tests compare it with a reference)
   DenoiserParams denoise;      // the denoiser that finishes each frame (none by default)
+};
+
+// The buffers of one reservoir-resampling estimator (ReSTIR DI or GI): this pass's reservoirs after each
+// stage, the history the next frame reuses, which previous pixel each pixel merged, and the final
+// shadow-ray verdicts of this and the previous pass.
+struct ReservoirChain {
+  std::vector<DiReservoir> initial, temporal, spatial[2], history;
+  std::vector<int32_t> history_pixel;
+  std::vector<DiVisibility> visibility, prev_visibility;
 };
 
 using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler, LightTreeSampler, ExhaustiveLightSampler>;
@@ -62,8 +84,9 @@ class Renderer {
   Image noisy_image() const;
   int accumulated_spp() const { return accumulated_spp_; }
   const GBuffer& gbuffer() const { return gbuffer_; }
-  // restir-di: the reservoirs the last frame shaded with (empty for other methods).
-  const std::vector<DiReservoir>& di_reservoirs() const { return history_; }
+  // restir-di, restir: the reservoirs the last frame shaded with (empty for other methods).
+  const std::vector<DiReservoir>& di_reservoirs() const { return di_.history; }
+  const std::vector<DiReservoir>& gi_reservoirs() const { return gi_.history; }
   const Scene& scene() const { return scene_; }
   const LightList& lights() const { return lights_; }
   const Tracer& tracer() const { return *tracer_; }
@@ -72,7 +95,11 @@ class Renderer {
  private:
   void update_scene(float time, const CameraDesc& camera, FrameStats& stats);
   void path_trace_pass(const SceneView& view, int frame_index, int spp, FrameStats& stats);
-  void restir_di_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats);
+  void restir_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats);
+  void reuse_and_shade(const SceneView& view, const std::string& prefix, const DiReuseParams& reuse, int key, int pass,
+                       const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats);
+  DiDomain current_domain() const;
+  DiDomain previous_domain() const;
 
   Scene scene_;
   RenderSettings settings_;
@@ -85,11 +112,9 @@ class Renderer {
   CameraDesc camera_desc_;
   bool has_frame_ = false;
   GBuffer gbuffer_, prev_gbuffer_;
-  std::vector<DiReservoir> reservoirs_, temporal_, spatial_[2], history_;
+  ReservoirChain di_, gi_;
   std::vector<DiSurface> di_surfaces_, prev_di_surfaces_;  // packed G-buffer surfaces of this and last frame
-  std::vector<vec3> di_unsampled_;
-  std::vector<int32_t> di_history_pixel_;                 // per pixel: last frame's pixel merged by temporal reuse
-  std::vector<DiVisibility> di_visibility_, prev_di_visibility_;  // final shadow-ray verdicts, this and last pass  // light only BSDF candidates reach (environment, unlisted emitters)
+  std::vector<vec3> di_unsampled_;  // light only BSDF candidates reach (environment, unlisted emitters)
   Image sum_;
   int accumulated_spp_ = 0;
   Denoiser denoiser_;

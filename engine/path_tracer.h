@@ -3,6 +3,8 @@
 // importance sampling (Veach 1997, power heuristic, beta = 2), Russian roulette after three bounces.
 // It is the ground truth of every convergence test, so it favours clarity over speed.
 // The light-selection policy is a template parameter (engine/light_sampler.h).
+#include <optional>
+
 #include "engine/camera.h"
 #include "engine/frame_stats.h"
 #include "engine/image.h"
@@ -20,6 +22,7 @@ struct PathTracerParams {
   int max_depth = 8;       // bounces; 1 = direct light only (emission seen + one reflection)
   int rr_start_depth = 3;  // Russian roulette from this bounce on (keeps deep paths unbiased)
   uint64_t seed = 0;
+  bool jitter = true;      // false: every path starts through its pixel's centre (no anti-aliasing)
 };
 
 // Everything a frame's estimators read about the scene, fixed for the frame.
@@ -56,15 +59,28 @@ vec3 estimate_direct_light(const SceneView& view, const S& sampler, const Surfac
   return f * ls.radiance * (weight / p_light);
 }
 
-// One path through film position `film`; returns its radiance estimate.
+// Where a path (or the rest of one) starts: the ray leaving its last vertex, that vertex's bounce count
+// (0: the camera), the BSDF density and shading context that sampled the ray (for MIS against NEE when it
+// hits an emitter), and whether emission at its first hit counts (ReSTIR GI leaves it to ReSTIR DI).
+struct PathStart {
+  Ray ray;
+  int depth = 0;
+  float bsdf_pdf = 0.0f;
+  ShadingContext from;
+  bool first_emission = true;
+};
+
+// Radiance arriving along start.ray: NEE with the light sampler and BSDF sampling combined by the power
+// heuristic, Russian roulette, at most params.max_depth bounces counted from the camera. `first_hit`, if
+// given, receives the surface the ray hits first (stays empty on a miss).
 template <LightSampler S>
-vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams& params, vec2 film, Rng& rng,
-                uint64_t& rays) {
-  Ray ray{view.camera.position(), view.camera.direction(film.x, film.y), 0.0f, kInfinity};
+vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams& params, const PathStart& start,
+                Rng& rng, uint64_t& rays, std::optional<SurfacePoint>* first_hit = nullptr) {
+  Ray ray = start.ray;
   vec3 L(0.0f), beta(1.0f);
-  float prev_bsdf_pdf = 0.0f;
-  ShadingContext prev_ctx;
-  for (int depth = 0;; ++depth) {
+  float prev_bsdf_pdf = start.bsdf_pdf;
+  ShadingContext prev_ctx = start.from;
+  for (int depth = start.depth;; ++depth) {
     Hit hit = view.tracer.intersect(ray);
     ++rays;
     if (!hit.valid()) {
@@ -72,8 +88,10 @@ vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams&
       break;
     }
     SurfacePoint sp = surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -ray.direction);
+    const bool first = depth == start.depth;
+    if (first && first_hit) *first_hit = sp;
     // Emission reached by a BSDF ray, weighted against the chance NEE would have sampled the same point.
-    if (max_component(sp.emission) > 0.0f) {
+    if (max_component(sp.emission) > 0.0f && (!first || start.first_emission)) {
       float weight = 1.0f;
       int64_t light = depth == 0 ? -1 : view.lights.light_index(hit.instance, hit.prim);
       if (light >= 0) {
@@ -120,8 +138,10 @@ void path_trace(const SceneView& view, const S& sampler, const PathTracerParams&
     vec3 acc(0.0f);
     for (int s = 0; s < params.spp; ++s) {
       Rng rng = Rng::for_key(params.seed, pixel, uint64_t(params.first_sample + s), uint64_t(frame));
-      vec2 film = vec2(x, y) + vec2(rng.next_float(), rng.next_float());
-      vec3 L = trace_path(view, sampler, params, film, rng, traced);
+      vec2 offset(rng.next_float(), rng.next_float());
+      vec2 film = vec2(x, y) + (params.jitter ? offset : vec2(0.5f));
+      PathStart start{Ray{view.camera.position(), view.camera.direction(film.x, film.y), 0.0f, kInfinity}};
+      vec3 L = trace_path(view, sampler, params, start, rng, traced);
       if (is_finite(L)) acc += L;
     }
     sum.pixels[pixel] += acc;

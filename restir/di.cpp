@@ -4,8 +4,8 @@ namespace candela {
 
 DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
   DiContribution c;
-  const bool triangle = s.light < r.lights->triangle_count();
-  c.light = triangle ? light_sample_towards(s.point, r.position) : r.lights->sample_punctual(s.light, r.position);
+  const bool stored_point = s.light < r.lights->triangle_count() || s.light == kSurfacePointSample;
+  c.light = stored_point ? light_sample_towards(s.point, r.position) : r.lights->sample_punctual(s.light, r.position);
   const LightSample& ls = c.light;
   if (max_component(ls.radiance) <= 0.0f || glm::dot(ls.wi, r.geometric_normal) <= 0.0f) return c;
   vec3 f = r.bsdf.eval(r.wo, ls.wi) * std::abs(glm::dot(ls.wi, r.shading_normal));
@@ -24,13 +24,13 @@ bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightS
 }
 
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
-              const std::vector<vec3>& unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
+              const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
               Image& sum, RayCounter& rays) {
   const bool reusing = reuse.max_age > 0 && reuse.history_pixel && reuse.previous &&
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
   visibility.assign(g.size(), DiVisibility{});
   for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
-    vec3 L = g.emission[i] + unsampled[i];
+    vec3 L = unsampled ? g.emission[i] + (*unsampled)[i] : vec3(0.0f);
     const DiReservoir& r = reservoirs[i];
     uint64_t traced = 0;
     if (g.hit(i) && r.W > 0.0f) {

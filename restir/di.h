@@ -23,7 +23,13 @@ struct DiSample {
   uint32_t light = 0;
   vec2 uv{0.0f};
   LightPoint point;
+  uint16_t age = 0;  // frames since the sample was drawn (temporal reuse counts it)
 };
+
+// The `light` of a sample that is no light but a point on a surface reflecting light, stored whole in
+// `point` (ReSTIR GI's sample point: position, normal, outgoing radiance; see restir/gi.h). Such samples
+// are never re-placed, and `uv` holds a random tag that tells two of them apart.
+inline constexpr uint32_t kSurfacePointSample = 0xffffffffu;
 using DiReservoir = Reservoir<DiSample>;
 
 struct DiParams {
@@ -62,7 +68,7 @@ inline DiReceiver di_exact_receiver(const GBuffer& g, const vec3& eye, const Lig
 
 // The sample (light, uv) with its point placed by `lights` (punctual lights have no point to store).
 inline DiSample di_resolve(const Scene& scene, const LightList& lights, uint32_t light, vec2 uv) {
-  DiSample s{light, uv, {}};
+  DiSample s{light, uv, {}, 0};
   if (light < lights.triangle_count()) s.point = lights.triangle_point(scene, light, uv);
   return s;
 }
@@ -191,11 +197,12 @@ struct DiVisibilityReuse {
 };
 
 // Stage "di_shade": reads the G-buffer, reservoirs and the unsampled light of the candidates, adds
-// emission seen plus unsampled light plus f L_e G W of each pixel's sample, with the exact surface, into
-// `sum`; writes each pixel's verdict to `visibility`. One shadow ray per pixel with a sample, except
-// where a verdict is reused.
+// f L_e G W of each pixel's sample, with the exact surface, into `sum`, plus, with `unsampled`, the
+// emission seen and the unsampled light (ReSTIR GI passes none: emission seen is direct light); writes
+// each pixel's verdict to `visibility`. One shadow ray per pixel with a sample, except where a verdict
+// is reused.
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
-              const std::vector<vec3>& unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
+              const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
               Image& sum, RayCounter& rays);
 
 }  // namespace candela

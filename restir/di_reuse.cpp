@@ -30,7 +30,7 @@ struct PlacedSample {
   const LightList* here_lights;
   const DiSample& at(const DiReceiver& receiver, const Scene& scene, DiSample& scratch) const {
     if (receiver.lights == here_lights) return here;
-    if (receiver.lights == own_lights) return own;
+    if (receiver.lights == own_lights || own.light == kSurfacePointSample) return own;
     scratch = di_resolve(scene, *receiver.lights, own.light, own.uv);
     return scratch;
   }
@@ -91,6 +91,18 @@ float pairwise_weight(const SceneView& view, const ReuseInput* inputs, const DiR
   return m / float(n);
 }
 
+// |J| of moving a surface-point sample's reconnection from `own` to `here` (Ouyang et al. 2021, eq. 11):
+// (|cos| at the sample point / d^2) seen from here over the same seen from own.
+float reconnection_jacobian(const LightPoint& sample, const vec3& here, const vec3& own) {
+  auto solid_angle_per_area = [&](const vec3& x) {
+    vec3 d = x - sample.position;
+    float d2 = glm::dot(d, d);
+    return d2 > 0.0f ? std::abs(glm::dot(sample.normal, d)) / (d2 * std::sqrt(d2)) : kInfinity;
+  };
+  float from_own = solid_angle_per_area(own);
+  return from_own > 0.0f ? solid_angle_per_area(here) / from_own : kInfinity;
+}
+
 // Combines the inputs into one reservoir for the pixel of inputs[0] (the receiver's own reservoir); the
 // result's sample is placed in input 0's frame. The canonical input's target at its own sample is the one
 // its reservoir stored.
@@ -113,8 +125,15 @@ DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, 
     out.M += in.M;
     if (in.reservoir->W <= 0.0f) continue;
     const DiSample& own = in.reservoir->y;
+    if (k > 0 && own.light == kSurfacePointSample && params.max_jacobian > 0.0f &&
+        reconnection_jacobian(own.point, receivers[0].position, in.domain->surfaces[in.pixel].position) > params.max_jacobian)
+      continue;
     const LightList* own_lights = &in.domain->lights;
-    const DiSample here = own_lights == here_lights ? own : di_resolve(view.scene, *here_lights, own.light, own.uv);
+    DiSample here = own;
+    if (own_lights != here_lights && own.light != kSurfacePointSample) {
+      here = di_resolve(view.scene, *here_lights, own.light, own.uv);
+      here.age = own.age;
+    }
     const PlacedSample y{own, own_lights, here, here_lights};
     float p_hat_here = k == 0 ? in.reservoir->p_hat_y : di_target(di_contribution(receivers[0], here));
     float m = in.M / M_total;
@@ -137,7 +156,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
   history_pixel.assign(g.size(), -1);
   if (history.size() != g.size() || previous.surfaces.size() != g.size()) return;
   for_each_pixel(g.width, g.height, rays, [&](size_t i, int x, int y) -> uint64_t {
-    if (!g.hit(i)) return 0;
+    if (!g.hit(i) || current.surfaces[i].roughness() < params.min_roughness) return 0;
     // Last frame's pixel under this pixel's surface point (motion starts at the jittered film position).
     vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
     if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return 0;
@@ -150,9 +169,12 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     if (px < 0 || py < 0 || px >= g.width || py >= g.height) return 0;
     size_t j = size_t(py) * g.width + px;
     if (!similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params)) return 0;
+    DiReservoir aged = history[j];
+    aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));
+    if (params.max_sample_age > 0 && aged.y.age > params.max_sample_age) return 0;
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
     ReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
-                            {&history[j], &previous, j, std::min(history[j].M, params.history_cap * reservoirs[i].M)}};
+                            {&aged, &previous, j, std::min(aged.M, params.history_cap * reservoirs[i].M)}};
     uint64_t traced = 0;
     out[i] = combine(view, inputs, 2, params, rng, traced);
     history_pixel[i] = int32_t(j);
@@ -168,7 +190,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   out = in;
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
   for_each_pixel(width, height, rays, [&](size_t i, int x, int y) -> uint64_t {
-    if (!surfaces[i].hit()) return 0;
+    if (!surfaces[i].hit() || surfaces[i].roughness() < params.min_roughness) return 0;
     const int neighbours = boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, 31);
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
@@ -209,7 +231,7 @@ void di_boiling_filter(const DiDomain& current, float threshold, std::vector<DiR
     const float limit = threshold * float(sum / count);
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x)
-        if (size_t i = size_t(y) * current.width + x; contribution(i) > limit) reservoirs[i] = DiReservoir{};
+        if (size_t i = size_t(y) * current.width + x; contribution(i) > limit) reservoirs[i].W = reservoirs[i].w_sum = 0.0f;
   });
 }
 

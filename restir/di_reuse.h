@@ -37,6 +37,13 @@ struct DiReuseParams {
                                   // exceeds this many times their 16x16 block's mean (biased: darkens; see
                                   // di_boiling_filter)
   int visibility_reuse_frames = 0; // > 0: final visibility reuse for up to this many frames (see DiVisibilityReuse)
+  int max_sample_age = 0;         // > 0: temporal reuse drops history whose sample is older (frames); 0: no limit
+  float min_roughness = 0.0f;     // pixels smoother than this keep their own reservoir (no reuse): where the BSDF
+                                  // is sharp, neighbours' samples rarely fit and their weights explode
+  float max_jacobian = 0.0f;      // > 0, surface-point samples (ReSTIR GI): a reused sample whose reconnection
+                                  // Jacobian (Ouyang et al. 2021, eq. 11: the ratio of its solid angle per area
+                                  // seen from this pixel to that from its own) exceeds this is rejected. Biased
+                                  // (drops the samples that would be fireflies); 0: unbiased
   uint64_t seed = 0;
 };
 
@@ -59,9 +66,10 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
 
 // Stage "di_boiling_filter": reads and rewrites the reservoirs. Temporal reuse can make a rare sample with
 // a huge contribution weight spread to its neighbours frame after frame ("boiling"); this drops every
-// reservoir whose estimated contribution p_hat(y) W exceeds `threshold` times the mean over its 16x16 block
-// (the idea of RTXDI's boiling filter; the statistic here is our own). Biased: it removes energy. Cost: two
-// passes over the reservoirs.
+// reservoir's sample whose estimated contribution p_hat(y) W exceeds `threshold` times the mean over its
+// 16x16 block (the idea of RTXDI's boiling filter; the statistic here is our own); the reservoir keeps its
+// M, as if none of its candidates had counted (dropping M too would overweight its neighbours' samples
+// wherever it is reused). Biased: it removes energy. Cost: two passes over the reservoirs.
 void di_boiling_filter(const DiDomain& current, float threshold, std::vector<DiReservoir>& reservoirs);
 
 }  // namespace candela

@@ -23,6 +23,7 @@ struct DiSurface {
   vec3 shading_n() const { return oct_decode(shading_normal); }
   vec3 geometric_n() const { return oct_decode(geometric_normal); }
   Bsdf bsdf(const vec3& shading_n) const;  // with the decoded shading normal
+  float roughness() const { return float(material & 255) * (1.0f / 255.0f); }
 };
 
 // Stage "di_surfaces": reads the G-buffer, writes one packed surface per pixel. Cost: one streaming pass.
