@@ -3,10 +3,11 @@
 // camera, after 8 warm-up frames; next to it, the same frame's rays traced alone: its primary rays (4x4
 // packets through pixel centres), its BSDF-candidate rays and its shadow rays (single rays, as the stages
 // trace them), generated before the clock starts. The ratio frame / rays is what the stages between the
-// rays cost.
+// rays cost. Then the whole ReSTIR frame, DI + GI (`--method restir`, paths up to 8 bounces), with its stages.
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 
@@ -19,11 +20,13 @@ namespace candela {
 namespace {
 
 struct RestirBenchScene {
+  Method method = Method::RestirDi;
   std::unique_ptr<Renderer> renderer;
   CameraDesc camera;
   int frame = 0;
   std::vector<Ray> bsdf_rays, shadow_rays;
   std::map<std::string, std::vector<double>> stage_ms;  // per stage, one entry per measured frame
+  std::string name;
 };
 
 // The rays of the renderer's last frame, rebuilt from its G-buffer and final reservoirs: per hit pixel one
@@ -65,53 +68,64 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
+// A renderer of `source` with `method` at the bench's size, after 8 warm-up frames of a still camera.
+std::unique_ptr<RestirBenchScene> warm_scene(const std::string& source, Method method, const BenchOptions& o) {
+  auto s = std::make_unique<RestirBenchScene>();
+  s->method = method;
+  s->name = bench_scene_name(source);
+  RenderSettings settings;
+  settings.width = o.width;
+  settings.height = o.height;
+  settings.method = method;
+  settings.accumulate = false;
+  Scene scene = load_scene(source);
+  s->camera = scene.default_camera();
+  s->renderer = std::make_unique<Renderer>(std::move(scene), settings);
+  for (; s->frame < 8; ++s->frame) s->renderer->render_frame(s->frame, 0.0f, s->camera);
+  return s;
+}
+
+// Registers `name`: each iteration runs `body` once, which returns the rays it traced.
+void register_rays_benchmark(const std::string& name, const BenchOptions& o, std::function<uint64_t()> body) {
+  benchmark::RegisterBenchmark(name.c_str(), [body](benchmark::State& state) {
+    uint64_t rays = 0;
+    for (auto _ : state) rays += body();
+    state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+  })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
+}
+
 }  // namespace
 
 int run_restir_bench(const BenchOptions& o) {
   std::vector<std::string> sources = o.scenes.empty() ? default_bench_scenes() : o.scenes;
   std::vector<std::unique_ptr<RestirBenchScene>> scenes;
-  std::vector<std::string> names;
   for (const std::string& source : sources) {
-    auto s = std::make_unique<RestirBenchScene>();
-    RenderSettings settings;
-    settings.width = o.width;
-    settings.height = o.height;
-    settings.method = Method::RestirDi;
-    settings.accumulate = false;
-    Scene scene = load_scene(source);
-    s->camera = scene.default_camera();
-    s->renderer = std::make_unique<Renderer>(std::move(scene), settings);
-    for (; s->frame < 8; ++s->frame) s->renderer->render_frame(s->frame, 0.0f, s->camera);
-    capture_rays(*s);
-    std::string name = bench_scene_name(source);
-    names.push_back(name);
-    RestirBenchScene* p = s.get();
-    benchmark::RegisterBenchmark(("restir_di_frame/" + name).c_str(), [p](benchmark::State& state) {
-      uint64_t rays = 0;
-      for (auto _ : state) {
+    for (Method method : {Method::RestirDi, Method::Restir}) {
+      scenes.push_back(warm_scene(source, method, o));
+      RestirBenchScene* p = scenes.back().get();
+      register_rays_benchmark((method == Method::Restir ? "restir_frame/" : "restir_di_frame/") + p->name, o, [p] {
         FrameStats stats = p->renderer->render_frame(p->frame++, 0.0f, p->camera);
-        rays += stats.rays();
         for (const StageStats& stage : stats.stages) p->stage_ms[stage.name].push_back(stage.ms);
-      }
-      state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-    })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
-    benchmark::RegisterBenchmark(("restir_di_rays_alone/" + name).c_str(), [p](benchmark::State& state) {
-      uint64_t rays = 0;
-      for (auto _ : state) rays += trace_alone(*p);
-      state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-    })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
-    scenes.push_back(std::move(s));
+        return stats.rays();
+      });
+      if (method == Method::Restir) continue;
+      capture_rays(*p);
+      register_rays_benchmark("restir_di_rays_alone/" + p->name, o, [p] { return trace_alone(*p); });
+    }
   }
   BenchResults results = run_registered_benchmarks(o);
 
   std::printf("\nSummary at %dx%d (medians of %d repetitions; stages: medians over all measured frames), ms:\n", o.width,
               o.height, o.repetitions);
-  for (size_t k = 0; k < names.size(); ++k) {
-    double frame = BenchResults::median(results.ns_per_iteration, "restir_di_frame/" + names[k]) * 1e-6;
-    double alone = BenchResults::median(results.ns_per_iteration, "restir_di_rays_alone/" + names[k]) * 1e-6;
-    std::printf("%-20s frame %8.1f | its rays alone %7.1f | frame / rays %5.2f |", names[k].c_str(), frame, alone,
-                alone > 0.0 ? frame / alone : 0.0);
-    for (const auto& [stage, ms] : scenes[k]->stage_ms) std::printf(" %s %.1f", stage.c_str(), median(ms));
+  for (const auto& s : scenes) {
+    const bool di = s->method == Method::RestirDi;
+    double frame = BenchResults::median(results.ns_per_iteration, (di ? "restir_di_frame/" : "restir_frame/") + s->name) * 1e-6;
+    std::printf("%-20s %-9s frame %8.1f |", s->name.c_str(), di ? "restir-di" : "restir", frame);
+    if (di) {
+      double alone = BenchResults::median(results.ns_per_iteration, "restir_di_rays_alone/" + s->name) * 1e-6;
+      std::printf(" its rays alone %7.1f | frame / rays %5.2f |", alone, alone > 0.0 ? frame / alone : 0.0);
+    }
+    for (const auto& [stage, ms] : s->stage_ms) std::printf(" %s %.1f", stage.c_str(), median(ms));
     std::printf("\n");
   }
   return 0;
