@@ -130,6 +130,8 @@ int run_render(RenderOptions& o) {
 int run_view(RenderOptions& o, ViewerOptions& v) {
   if (!v.screenshot.empty()) check_output_path(v.screenshot, {".png"}, "--screenshot");
   if (v.headless && v.frames == 0) throw InputError("--headless needs --frames N");
+  bool reservoir_view = v.view == DisplayView::ReservoirM || v.view == DisplayView::ReservoirW;
+  if (reservoir_view && o.method != "restir-di") throw InputError("--show " + std::string(display_view_option(v.view)) + ": needs --method restir-di");
   resolve_settings(o);
   v.width = o.settings.width;
   v.height = o.settings.height;
@@ -249,6 +251,11 @@ int main(int argc, char** argv) {
   view->add_option("--screenshot", viewer.screenshot, "After the last frame, write the window's content (frame + HUD) as PNG");
   view->add_option("--camera-orbit", viewer.orbit_degrees_per_frame, "The camera orbits its target by this many degrees per frame")
       ->check(CLI::Range(-360.0f, 360.0f));
+  std::map<std::string, DisplayView> views;
+  for (DisplayView v : kDisplayViews) views[display_view_option(v)] = v;
+  view->add_option("--show", viewer.view, "What is displayed first: radiance, or a debug view of the G-buffer (albedo, normal, "
+                                          "depth, motion) or of the reservoirs (reservoir-m, reservoir-w; restir-di)")
+      ->transform(CLI::CheckedTransformer(views))->capture_default_str();
   view->add_option("--test-minimise", viewer.test_minimise_frame, "Test hook: minimise the window for 3 frames from this frame on")
       ->check(CLI::Range(0, 1 << 24));
 

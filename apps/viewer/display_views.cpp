@@ -19,6 +19,14 @@ const char* display_view_name(DisplayView view) {
   return "?";
 }
 
+const char* display_view_option(DisplayView view) {
+  switch (view) {
+    case DisplayView::ReservoirM: return "reservoir-m";
+    case DisplayView::ReservoirW: return "reservoir-w";
+    default: return display_view_name(view);
+  }
+}
+
 bool display_view_available(DisplayView view, const Renderer& renderer) {
   bool reservoir = view == DisplayView::ReservoirM || view == DisplayView::ReservoirW;
   return !reservoir || renderer.di_reservoirs().size() == renderer.gbuffer().size();

@@ -10,7 +10,8 @@ enum class DisplayView { Radiance, Albedo, Normal, Depth, Motion, ReservoirM, Re
 inline constexpr DisplayView kDisplayViews[] = {DisplayView::Radiance, DisplayView::Albedo, DisplayView::Normal,
                                                 DisplayView::Depth,    DisplayView::Motion, DisplayView::ReservoirM,
                                                 DisplayView::ReservoirW};
-const char* display_view_name(DisplayView view);
+const char* display_view_name(DisplayView view);    // as the HUD labels it ("reservoir M")
+const char* display_view_option(DisplayView view);  // as the command line names it ("reservoir-m")
 // Reservoir views exist only when the renderer runs ReSTIR DI.
 bool display_view_available(DisplayView view, const Renderer& renderer);
 // Radiance and W are shown tonemapped (ACES + sRGB, like PNG output); the other views hold values in [0, 1].

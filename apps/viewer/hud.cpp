@@ -100,6 +100,16 @@ bool combo(const char* label, T& value, const std::vector<std::pair<T, const cha
   return changed;
 }
 
+// Sliders report a change when released, so dragging one rebuilds the Renderer once, not every frame.
+bool slider(const char* label, int& value, int min, int max) {
+  ImGui::SliderInt(label, &value, min, max);
+  return ImGui::IsItemDeactivatedAfterEdit();
+}
+bool slider(const char* label, float& value, float min, float max, const char* format = "%.1f") {
+  ImGui::SliderFloat(label, &value, min, max, format);
+  return ImGui::IsItemDeactivatedAfterEdit();
+}
+
 // Settings of the estimator, light selection and denoiser; true when one changed.
 bool draw_renderer_settings(HudState& state) {
   RenderSettings& s = state.settings;
@@ -110,11 +120,11 @@ bool draw_renderer_settings(HudState& state) {
                                       {LightSamplerKind::Tree, "tree"}, {LightSamplerKind::Exhaustive, "exhaustive"}});
   changed |= combo<DenoiserKind>("denoiser", s.denoise.kind,
                                  {{DenoiserKind::None, "none"}, {DenoiserKind::Bilateral, "bilateral"}, {DenoiserKind::Svgf, "svgf"}});
-  changed |= ImGui::SliderInt("spp", &s.spp, 1, 16);
+  changed |= slider("spp", s.spp, 1, 16);
   ImGui::BeginDisabled(s.method != Method::PathTrace);
-  changed |= ImGui::SliderInt("max depth", &s.max_depth, 1, 16);
+  changed |= slider("max depth", s.max_depth, 1, 16);
   ImGui::EndDisabled();
-  changed |= ImGui::SliderFloat("resolution scale", &state.scale, 0.125f, 1.0f, "%.3f");
+  changed |= slider("resolution scale", state.scale, 0.125f, 1.0f, "%.3f");
   changed |= ImGui::Checkbox("accumulate", &s.accumulate);
   ImGui::SameLine();
   changed |= ImGui::Checkbox("jitter", &s.jitter);
@@ -127,8 +137,8 @@ bool draw_renderer_settings(HudState& state) {
 bool draw_restir_settings(RenderSettings& s) {
   ImGui::BeginDisabled(s.method != Method::RestirDi);
   bool changed = false;
-  changed |= ImGui::SliderInt("candidates", &s.di.light_candidates, 0, 64);
-  changed |= ImGui::SliderInt("bsdf candidates", &s.di.bsdf_candidates, 0, 8);
+  changed |= slider("candidates", s.di.light_candidates, 0, 64);
+  changed |= slider("bsdf candidates", s.di.bsdf_candidates, 0, 8);
   changed |= ImGui::Checkbox("candidate visibility", &s.di.candidate_visibility);
   DiReuseParams& r = s.di_reuse;
   int reuse = int(r.temporal) | int(r.spatial) << 1;
@@ -141,13 +151,13 @@ bool draw_restir_settings(RenderSettings& s) {
                                      {{DiBiasCorrection::None, "none"}, {DiBiasCorrection::Basic, "basic"},
                                       {DiBiasCorrection::Pairwise, "pairwise"}});
   changed |= ImGui::Checkbox("MIS visibility (basic)", &r.mis_visibility);
-  changed |= ImGui::SliderInt("neighbours", &r.spatial_neighbours, 0, 31);
-  changed |= ImGui::SliderFloat("radius (px)", &r.spatial_radius, 1.0f, 64.0f, "%.1f");
-  changed |= ImGui::SliderInt("spatial passes", &r.spatial_passes, 1, 8);
-  changed |= ImGui::SliderInt("disocclusion neighbours", &r.disocclusion_neighbours, 0, 31);
-  changed |= ImGui::SliderFloat("history cap", &r.history_cap, 0.0f, 100.0f, "%.1f");
-  changed |= ImGui::SliderFloat("boiling filter", &r.boiling_threshold, 0.0f, 100.0f, "%.1f");
-  changed |= ImGui::SliderInt("visibility reuse", &r.visibility_reuse_frames, 0, 16);
+  changed |= slider("neighbours", r.spatial_neighbours, 0, 31);
+  changed |= slider("radius (px)", r.spatial_radius, 1.0f, 64.0f, "%.1f");
+  changed |= slider("spatial passes", r.spatial_passes, 1, 8);
+  changed |= slider("disocclusion k", r.disocclusion_neighbours, 0, 31);
+  changed |= slider("history cap", r.history_cap, 0.0f, 100.0f, "%.1f");
+  changed |= slider("boiling filter", r.boiling_threshold, 0.0f, 100.0f, "%.1f");
+  changed |= slider("visibility reuse", r.visibility_reuse_frames, 0, 16);
   changed |= ImGui::Checkbox("permutation sampling", &r.permutation_sampling);
   ImGui::EndDisabled();
   return changed;
@@ -185,20 +195,24 @@ HudActions draw_hud(HudState& state, const FrameHistory& history, const Renderer
                        ImVec2(ImGui::GetContentRegionAvail().x, 40.0f));
       draw_stage_graph(history);
     }
-    if (ImGui::CollapsingHeader("Renderer")) actions.settings_changed |= draw_renderer_settings(state);
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);  // leaves room for the labels
+    if (ImGui::CollapsingHeader("Renderer", ImGuiTreeNodeFlags_DefaultOpen)) actions.settings_changed |= draw_renderer_settings(state);
     if (ImGui::CollapsingHeader("ReSTIR DI")) actions.settings_changed |= draw_restir_settings(state.settings);
     if (ImGui::CollapsingHeader("View")) {
       for (DisplayView v : kDisplayViews) {
         ImGui::BeginDisabled(!display_view_available(v, renderer));
         if (ImGui::RadioButton(display_view_name(v), state.view == v)) state.view = v;
         ImGui::EndDisabled();
-        if (v != DisplayView::Motion && v != DisplayView::ReservoirW) ImGui::SameLine();
+        if (v != DisplayView::Normal && v != DisplayView::Motion && v != DisplayView::ReservoirW) ImGui::SameLine();
       }
       ImGui::SliderFloat("exposure", &state.exposure, 0.01f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-      ImGui::Text("camera (%.2f, %.2f, %.2f) -> (%.2f, %.2f, %.2f)", camera.position.x, camera.position.y, camera.position.z,
+      ImGui::Text("camera (%.1f, %.1f, %.1f) -> (%.1f, %.1f, %.1f)", camera.position.x, camera.position.y, camera.position.z,
                   camera.target.x, camera.target.y, camera.target.z);
-      ImGui::TextDisabled("orbit: left drag, wheel; fly: right drag + WASD QE (shift: faster)");
+      ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+      ImGui::TextWrapped("orbit: left drag, wheel; fly: right drag + WASD QE (shift: faster)");
+      ImGui::PopStyleColor();
     }
+    ImGui::PopItemWidth();
     actions.reset = ImGui::Button("reset");
     ImGui::SameLine();
     actions.save_png = ImGui::Button("save PNG");

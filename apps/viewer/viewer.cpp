@@ -14,6 +14,7 @@ namespace {
 
 // Degrees the camera turns per pixel of mouse drag (orbit and fly look).
 constexpr float kOrbitDegreesPerPixel = 0.25f, kLookDegreesPerPixel = 0.15f;
+constexpr std::chrono::milliseconds kResizeSettle(200);
 
 // Render size for a framebuffer at `scale`: at least one pixel each way.
 int scaled(int framebuffer_size, float scale) { return std::max(1, int(std::lround(framebuffer_size * scale))); }
@@ -30,7 +31,10 @@ Viewer::Viewer(const Scene& scene, const RenderSettings& settings, const ViewerO
   hud_.settings = settings;
   hud_.scale = options.scale;
   hud_.exposure = options.exposure;
+  hud_.view = options.view;
   WindowInput input = context_->poll();
+  last_mouse_x_ = input.mouse_x;
+  last_mouse_y_ = input.mouse_y;
   rebuild_renderer(scaled(std::max(input.framebuffer_width, 1), options.scale),
                    scaled(std::max(input.framebuffer_height, 1), options.scale));
   last_step_ = std::chrono::steady_clock::now();
@@ -84,10 +88,16 @@ bool Viewer::step() {
   if (in.framebuffer_width > 0 && in.framebuffer_height > 0) {  // minimised: nothing to draw into
     imgui_->new_frame(in, dt);
     apply_camera_input(in, dt);
+    // A new render size (window resized, scale dragged) waits until it has held for kResizeSettle, so a
+    // drag rebuilds the Renderer once; meanwhile the last size is shown stretched.
     int width = scaled(in.framebuffer_width, hud_.scale), height = scaled(in.framebuffer_height, hud_.scale);
-    if (rebuild_ || width != renderer_->settings().width || height != renderer_->settings().height) {
-      rebuild_renderer(width, height);
+    if (width != pending_width_ || height != pending_height_) {
+      pending_width_ = width;
+      pending_height_ = height;
+      pending_since_ = now;
     }
+    bool resized = width != renderer_->settings().width || height != renderer_->settings().height;
+    if (rebuild_ || (resized && now - pending_since_ >= kResizeSettle)) rebuild_renderer(width, height);
     FrameStats stats = renderer_->render_frame(frame_index_, scene_time_, camera_.desc());
     display_->upload(to_display_pixels(display_view_image(*renderer_, hud_.view), display_view_tonemapped(hud_.view), hud_.exposure));
     display_->draw(in.framebuffer_width, in.framebuffer_height);

@@ -24,6 +24,7 @@ struct ViewerOptions {
   float orbit_degrees_per_frame = 0.0f;  // the camera orbits its target on its own by this much per frame
   float fps = 30.0f;              // scene time advances 1/fps seconds per frame
   float exposure = 1.0f;
+  DisplayView view = DisplayView::Radiance;  // what is shown first
   int test_minimise_frame = -1;   // test hook: minimise the window for 3 frames starting at this frame
   bool quiet = false;
 };
@@ -64,6 +65,8 @@ class Viewer {
   float scene_time_ = 0.0f;
   bool rebuild_ = false;
   int framebuffer_width_ = 0, framebuffer_height_ = 0;  // of the last frame drawn
+  int pending_width_ = 0, pending_height_ = 0;          // the latest render size asked for, and since when
+  std::chrono::steady_clock::time_point pending_since_;
   double last_mouse_x_ = 0.0, last_mouse_y_ = 0.0;
   std::chrono::steady_clock::time_point last_step_;
 };
