@@ -13,19 +13,25 @@ GlFunctions::GlFunctions(GlGetProcAddress get) {
 #undef CANDELA_GL_LOAD
 }
 
+// Throws std::runtime_error with the object's info log when its `status` (compile or link) is false,
+// after deleting the object. Works for shaders and programs alike (their query functions share signatures).
+static void check_status(GLuint object, GLenum status, PFNGLGETSHADERIVPROC get, PFNGLGETSHADERINFOLOGPROC get_log,
+                         PFNGLDELETESHADERPROC remove, const char* what) {
+  GLint ok = 0;
+  get(object, status, &ok);
+  if (ok) return;
+  char log[1024] = {};
+  get_log(object, sizeof(log), nullptr, log);
+  remove(object);
+  throw std::runtime_error(std::string("OpenGL: ") + what + ": " + log);
+}
+
 // Compiles one shader stage; throws with the info log on failure.
 static GLuint compile_shader(const GlFunctions& gl, GLenum stage, const char* source) {
   GLuint shader = gl.CreateShader(stage);
   gl.ShaderSource(shader, 1, &source, nullptr);
   gl.CompileShader(shader);
-  GLint ok = 0;
-  gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[1024] = {};
-    gl.GetShaderInfoLog(shader, sizeof(log), nullptr, log);
-    gl.DeleteShader(shader);
-    throw std::runtime_error(std::string("OpenGL: shader does not compile: ") + log);
-  }
+  check_status(shader, GL_COMPILE_STATUS, gl.GetShaderiv, gl.GetShaderInfoLog, gl.DeleteShader, "shader does not compile");
   return shader;
 }
 
@@ -38,14 +44,7 @@ GLuint link_program(const GlFunctions& gl, const char* vertex_source, const char
   gl.LinkProgram(program);
   gl.DeleteShader(vs);
   gl.DeleteShader(fs);
-  GLint ok = 0;
-  gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[1024] = {};
-    gl.GetProgramInfoLog(program, sizeof(log), nullptr, log);
-    gl.DeleteProgram(program);
-    throw std::runtime_error(std::string("OpenGL: program does not link: ") + log);
-  }
+  check_status(program, GL_LINK_STATUS, gl.GetProgramiv, gl.GetProgramInfoLog, gl.DeleteProgram, "program does not link");
   return program;
 }
 

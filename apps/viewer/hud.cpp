@@ -3,7 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <map>
+#include <cmath>
 
 namespace candela {
 
@@ -16,12 +16,12 @@ namespace {
 
 constexpr float kHudWidth = 360.0f;
 
-// A colour per stage, fixed by the stage's position in the palette of first appearance.
+// A colour per stage, fixed by the stage's order of first appearance: hues a golden-ratio turn apart, so
+// neighbours in the legend differ and no two of the first dozen look alike.
 ImU32 stage_colour(int index) {
-  static const ImU32 palette[] = {IM_COL32(230, 159, 0, 255),  IM_COL32(86, 180, 233, 255), IM_COL32(0, 158, 115, 255),
-                                  IM_COL32(240, 228, 66, 255), IM_COL32(0, 114, 178, 255),  IM_COL32(213, 94, 0, 255),
-                                  IM_COL32(204, 121, 167, 255), IM_COL32(170, 170, 170, 255)};
-  return palette[index % int(std::size(palette))];
+  float r, g, b;
+  ImGui::ColorConvertHSVtoRGB(std::fmod(0.1f + 0.618034f * float(index), 1.0f), 0.65f, 0.95f, r, g, b);
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(r, g, b, 1.0f));
 }
 
 // Stacked bars of per-stage milliseconds, one column per recorded frame (oldest left), then a legend with
