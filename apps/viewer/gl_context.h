@@ -31,7 +31,7 @@ struct WindowInput {
 // Key indices in WindowInput::key_down besides printable ASCII (upper-case letters, digits).
 enum ViewerKey : int {
   kKeyTab = 256, kKeyLeft, kKeyRight, kKeyUp, kKeyDown, kKeyPageUp, kKeyPageDown, kKeyHome, kKeyEnd,
-  kKeyInsert, kKeyDelete, kKeyBackspace, kKeySpace, kKeyEnter, kKeyEscape, kKeyF12
+  kKeyInsert, kKeyDelete, kKeyBackspace, kKeySpace, kKeyEnter, kKeyEscape
 };
 
 class GlContext {

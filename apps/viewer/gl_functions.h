@@ -10,13 +10,11 @@ namespace candela {
 
 // X(type, name): one entry per function; the member `gl.Name` holds glName.
 #define CANDELA_GL_FUNCTIONS(X)                                                            \
-  X(PFNGLGETERRORPROC, GetError) X(PFNGLGETSTRINGPROC, GetString)                          \
   X(PFNGLVIEWPORTPROC, Viewport) X(PFNGLSCISSORPROC, Scissor)                              \
   X(PFNGLCLEARCOLORPROC, ClearColor) X(PFNGLCLEARPROC, Clear)                              \
   X(PFNGLENABLEPROC, Enable) X(PFNGLDISABLEPROC, Disable)                                  \
   X(PFNGLBLENDEQUATIONPROC, BlendEquation) X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate) \
   X(PFNGLPIXELSTOREIPROC, PixelStorei) X(PFNGLREADPIXELSPROC, ReadPixels)                  \
-  X(PFNGLFINISHPROC, Finish)                                                               \
   X(PFNGLGENTEXTURESPROC, GenTextures) X(PFNGLDELETETEXTURESPROC, DeleteTextures)          \
   X(PFNGLBINDTEXTUREPROC, BindTexture) X(PFNGLACTIVETEXTUREPROC, ActiveTexture)            \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri) X(PFNGLTEXIMAGE2DPROC, TexImage2D)              \

@@ -65,8 +65,7 @@ class GlfwWindow final : public GlContext {
                             {kKeyUp, GLFW_KEY_UP},         {kKeyDown, GLFW_KEY_DOWN},     {kKeyPageUp, GLFW_KEY_PAGE_UP},
                             {kKeyPageDown, GLFW_KEY_PAGE_DOWN}, {kKeyHome, GLFW_KEY_HOME}, {kKeyEnd, GLFW_KEY_END},
                             {kKeyInsert, GLFW_KEY_INSERT}, {kKeyDelete, GLFW_KEY_DELETE}, {kKeyBackspace, GLFW_KEY_BACKSPACE},
-                            {kKeySpace, GLFW_KEY_SPACE},   {kKeyEnter, GLFW_KEY_ENTER},   {kKeyEscape, GLFW_KEY_ESCAPE},
-                            {kKeyF12, GLFW_KEY_F12}};
+                            {kKeySpace, GLFW_KEY_SPACE},   {kKeyEnter, GLFW_KEY_ENTER},   {kKeyEscape, GLFW_KEY_ESCAPE}};
     for (const auto& [ours, glfw] : named) in.key_down[ours] = down(glfw);
     in.shift = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT);
     in.ctrl = down(GLFW_KEY_LEFT_CONTROL) || down(GLFW_KEY_RIGHT_CONTROL);

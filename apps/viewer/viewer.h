@@ -42,7 +42,6 @@ class Viewer {
   void write_framebuffer(const std::string& path) const;
   const HudRect& hud_rect() const { return hud_rect_; }
   int frames_done() const { return frames_done_; }
-  const Renderer& renderer() const { return *renderer_; }
 
  private:
   void apply_camera_input(const WindowInput& input, float dt);
