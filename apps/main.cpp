@@ -1,4 +1,4 @@
-// `candela`: one binary, subcommands `render`, `compare` and `bench`. Bad command lines and bad input files print a
+// `candela`: one binary, subcommands `render`, `view`, `compare` and `bench`. Bad command lines and bad input files print a
 // message naming the option or file and exit non-zero.
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
@@ -11,6 +11,7 @@
 #include "apps/renderer.h"
 #include "apps/scene_source.h"
 #include "apps/stats_json.h"
+#include "apps/viewer/viewer.h"
 #include "engine/check.h"
 #include "engine/image_metrics.h"
 
@@ -96,14 +97,10 @@ void apply_reuse_choices(DiReuseParams& p, const std::string& reuse, const std::
   p.bias = bias == "none" ? DiBiasCorrection::None : bias == "basic" ? DiBiasCorrection::Basic : DiBiasCorrection::Pairwise;
 }
 
-// Renders `frames` frames (scene time advances by 1/fps per frame), prints progress and per-frame
-// timings, writes the last frame's image and optionally the stats of every frame.
-int run_render(RenderOptions& o) {
+// Checks the image size and turns the option strings into RenderSettings.
+void resolve_settings(RenderOptions& o) {
   if (int64_t(o.settings.width) * o.settings.height > (int64_t(1) << 26))
     throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
-  check_output_path(o.out, {".exr", ".png"}, "--out");
-  if (o.aov != "none" && o.method.rfind("restir", 0) != 0) throw InputError("--aov " + o.aov + ": needs --method restir-di or restir");
-  if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
   const std::map<std::string, LightSamplerKind> samplers = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
                                                             {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
   o.settings.light_sampler = samplers.at(o.light_sampler);
@@ -116,13 +113,28 @@ int run_render(RenderOptions& o) {
                       : o.method == "restir-di" ? Method::RestirDi
                       : o.method == "restir"    ? Method::Restir
                                                 : Method::PathTrace;
+}
+
+// Loads the scene argument with the options that shape it (light count, environment).
+Scene load_frame_scene(const RenderOptions& o) {
   BuiltinOptions builtin;
   builtin.light_count = o.lights;
-  auto t0 = std::chrono::steady_clock::now();
   Scene scene = load_scene(o.scene, builtin);
   bool builtin_scene = o.scene.rfind("builtin:", 0) == 0;
   if (o.environment >= 0.0f) scene.environment = vec3(o.environment);
   else if (!builtin_scene) scene.environment = vec3(0.3f);
+  return scene;
+}
+
+// Renders `frames` frames (scene time advances by 1/fps per frame), prints progress and per-frame
+// timings, writes the last frame's image and optionally the stats of every frame.
+int run_render(RenderOptions& o) {
+  check_output_path(o.out, {".exr", ".png"}, "--out");
+  if (o.aov != "none" && o.method.rfind("restir", 0) != 0) throw InputError("--aov " + o.aov + ": needs --method restir-di or restir");
+  if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
+  resolve_settings(o);
+  auto t0 = std::chrono::steady_clock::now();
+  Scene scene = load_frame_scene(o);
   size_t triangles = scene.triangle_count();
   Renderer renderer(std::move(scene), o.settings);
   double setup_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -157,6 +169,87 @@ int run_render(RenderOptions& o) {
   return 0;
 }
 
+// The interactive viewer (or its headless run): the same scene and settings as `render`, shown live.
+int run_view(RenderOptions& o, ViewerOptions& v) {
+  if (!v.screenshot.empty()) check_output_path(v.screenshot, {".png"}, "--screenshot");
+  if (v.headless && v.frames == 0) throw InputError("--headless needs --frames N");
+  bool reservoir_view = v.view == DisplayView::ReservoirM || v.view == DisplayView::ReservoirW;
+  if (reservoir_view && o.method.rfind("restir", 0) != 0)
+    throw InputError("--show " + std::string(display_view_option(v.view)) + ": needs --method restir-di or restir");
+  resolve_settings(o);
+  v.width = o.settings.width;
+  v.height = o.settings.height;
+  v.fps = o.fps;
+  v.exposure = o.exposure;
+  v.quiet = o.quiet;
+  return run_viewer(load_frame_scene(o), o.settings, v);
+}
+
+// Options `render` and `view` share: the scene, the image size (view: the window's) and everything the
+// Renderer is set up with.
+void add_frame_options(CLI::App* cmd, RenderOptions& r) {
+  cmd->add_option("scene", r.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
+  cmd->add_option("--width", r.settings.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--height", r.settings.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--spp", r.settings.spp, "Samples per pixel per frame")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  cmd->add_option("--fps", r.fps, "Scene time step between frames is 1/fps seconds (animated scenes)")
+      ->check(CLI::Range(0.001f, 10000.0f))->capture_default_str();
+  cmd->add_option("--seed", r.settings.seed, "Random seed; same seed, same image, whatever the thread count")->capture_default_str();
+  cmd->add_option("--max-depth", r.settings.max_depth, "Path tracer bounces; 1 = direct light only")
+      ->check(CLI::Range(1, 1024))->capture_default_str();
+  cmd->add_option("--method", r.method,
+                  "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF sample "
+                  "combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling), restir "
+                  "(restir-di plus ReSTIR GI for indirect light, paths up to --max-depth)")
+      ->check(CLI::IsMember({"pt", "direct", "restir-di", "restir"}))->capture_default_str();
+  cmd->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
+      ->check(CLI::Range(0, 1024))->capture_default_str();
+  cmd->add_option("--di-bsdf-candidates", r.settings.di.bsdf_candidates,
+                     "restir-di: BSDF-sampled candidates per pixel (M_b; one ray each)")
+      ->check(CLI::Range(0, 64))->capture_default_str();
+  cmd->add_flag("--di-visibility", r.settings.di.candidate_visibility,
+                   "restir-di: trace a shadow ray to the chosen candidate before reuse (drops occluded choices; "
+                   "the basic bias correction is then no longer exactly unbiased)");
+  cmd->add_flag("--di-mis-visibility", r.settings.di_reuse.mis_visibility,
+                   "restir-di, --di-bias basic: include visibility in the reuse MIS weights (unbiased also with "
+                   "--di-visibility; (k+1)^2 shadow rays per pixel)");
+  add_reuse_options(*cmd, "di", "restir-di", r.settings.di_reuse, r.di_reuse, r.di_bias);
+  add_reuse_options(*cmd, "gi", "restir (GI)", r.settings.gi_reuse, r.gi_reuse, r.gi_bias);
+  cmd->add_option("--gi-max-jacobian", r.settings.gi_reuse.max_jacobian,
+                  "restir: reject a reused GI sample whose reconnection Jacobian exceeds this (0 = off, unbiased; "
+                  "> 0 removes fireflies at the price of bias)")
+      ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
+  cmd->add_option("--gi-min-roughness", r.settings.gi_reuse.min_roughness,
+                  "restir: pixels smoother than this keep their own GI sample (no reuse on glossy surfaces)")
+      ->check(CLI::Range(0.0f, 1.0f))->capture_default_str();
+  cmd->add_option("--gi-max-age", r.settings.gi_reuse.max_sample_age,
+                  "restir: temporal reuse drops GI samples older than this many frames (0 = no limit)")
+      ->check(CLI::Range(0, 65535))->capture_default_str();
+  cmd->add_option("--denoise", r.denoise,
+                     "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
+                     "(spatiotemporal variance-guided filtering); both demodulate by albedo")
+      ->check(CLI::IsMember({"none", "bilateral", "svgf"}))->capture_default_str();
+  cmd->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
+      ->check(CLI::IsMember({"uniform", "power", "tree", "exhaustive"}))->capture_default_str();
+  cmd->add_option("--time-budget-ms", r.settings.time_budget_ms,
+                     "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds (overrides --spp)")
+      ->check(CLI::Range(0.0, 1e9));
+  cmd->add_option("--exposure", r.exposure, "Exposure multiplier applied before tonemapping (PNG only)")
+      ->check(CLI::Range(1e-6f, 1e6f))->capture_default_str();
+  cmd->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024))->capture_default_str();
+  cmd->add_option("--lights", r.lights, "builtin:manylights: number of ceiling lights")
+      ->check(CLI::Range(1, 4000000))->capture_default_str();
+  cmd->add_option("--environment", r.environment,
+                     "Uniform background radiance (grey); default: the built-in scene's own, 0.3 for glTF files")
+      ->check(CLI::Range(0.0f, 1e6f));
+  cmd->add_flag("--no-jitter", [&r](int64_t) { r.settings.jitter = false; },
+                   "Primary rays through pixel centres instead of jittered positions (no anti-aliasing: isolates the "
+                   "light transport estimator in comparisons)");
+  cmd->add_flag("--no-accumulate", [&r](int64_t) { r.settings.accumulate = false; },
+                   "Output the last frame alone instead of accumulating frames while camera and scene are still");
+  cmd->add_flag("--quiet,-q", r.quiet, "No progress output");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -165,74 +258,35 @@ int main(int argc, char** argv) {
 
   RenderOptions r;
   CLI::App* render = app.add_subcommand("render", "Render a scene to an image file");
-  render->add_option("scene", r.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
+  add_frame_options(render, r);
   render->add_option("--out,-o", r.out, "Output image: .exr (linear radiance) or .png (tonemapped sRGB)")->required();
-  render->add_option("--width", r.settings.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  render->add_option("--height", r.settings.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  render->add_option("--spp", r.settings.spp, "Samples per pixel per frame")->check(CLI::Range(1, 1 << 20))->capture_default_str();
   render->add_option("--frames", r.frames, "Frames to render; a still scene and camera accumulate across frames")
       ->check(CLI::Range(1, 1 << 20))->capture_default_str();
-  render->add_option("--fps", r.fps, "Scene time step between frames is 1/fps seconds (animated scenes)")
-      ->check(CLI::Range(0.001f, 10000.0f))->capture_default_str();
-  render->add_option("--seed", r.settings.seed, "Random seed; same seed, same image, whatever the thread count")->capture_default_str();
-  render->add_option("--max-depth", r.settings.max_depth, "Path tracer bounces; 1 = direct light only")
-      ->check(CLI::Range(1, 1024))->capture_default_str();
-  render->add_option("--method", r.method,
-                     "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF sample "
-                     "combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling), restir "
-                     "(restir-di plus ReSTIR GI for indirect light, paths up to --max-depth)")
-      ->check(CLI::IsMember({"pt", "direct", "restir-di", "restir"}))->capture_default_str();
-  render->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
-      ->check(CLI::Range(0, 1024))->capture_default_str();
-  render->add_option("--di-bsdf-candidates", r.settings.di.bsdf_candidates,
-                     "restir-di: BSDF-sampled candidates per pixel (M_b; one ray each)")
-      ->check(CLI::Range(0, 64))->capture_default_str();
-  render->add_flag("--di-visibility", r.settings.di.candidate_visibility,
-                   "restir-di: trace a shadow ray to the chosen candidate before reuse (drops occluded choices; "
-                   "the basic bias correction is then no longer exactly unbiased)");
-  render->add_flag("--di-mis-visibility", r.settings.di_reuse.mis_visibility,
-                   "restir-di, --di-bias basic: include visibility in the reuse MIS weights (unbiased also with "
-                   "--di-visibility; (k+1)^2 shadow rays per pixel)");
-  add_reuse_options(*render, "di", "restir-di", r.settings.di_reuse, r.di_reuse, r.di_bias);
-  add_reuse_options(*render, "gi", "restir (GI)", r.settings.gi_reuse, r.gi_reuse, r.gi_bias);
-  render->add_option("--gi-max-jacobian", r.settings.gi_reuse.max_jacobian,
-                     "restir: reject a reused GI sample whose reconnection Jacobian exceeds this (0 = off, unbiased; "
-                     "> 0 removes fireflies at the price of bias)")
-      ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
-  render->add_option("--gi-min-roughness", r.settings.gi_reuse.min_roughness,
-                     "restir: pixels smoother than this keep their own GI sample (no reuse on glossy surfaces)")
-      ->check(CLI::Range(0.0f, 1.0f))->capture_default_str();
-  render->add_option("--gi-max-age", r.settings.gi_reuse.max_sample_age,
-                     "restir: temporal reuse drops GI samples older than this many frames (0 = no limit)")
-      ->check(CLI::Range(0, 65535))->capture_default_str();
-  render->add_option("--denoise", r.denoise,
-                     "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
-                     "(spatiotemporal variance-guided filtering); both demodulate by albedo")
-      ->check(CLI::IsMember({"none", "bilateral", "svgf"}))->capture_default_str();
-  render->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
-      ->check(CLI::IsMember({"uniform", "power", "tree", "exhaustive"}))->capture_default_str();
-  render->add_option("--time-budget-ms", r.settings.time_budget_ms,
-                     "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds (overrides --spp)")
-      ->check(CLI::Range(0.0, 1e9));
   render->add_option("--aov", r.aov,
                      "Write a debug view instead of radiance: reservoir-m (confidence M), reservoir-w (contribution "
                      "weight W), reservoir-light (chosen light, hashed colour); restir-di only")
       ->check(CLI::IsMember({"none", "reservoir-m", "reservoir-w", "reservoir-light"}))->capture_default_str();
   render->add_option("--stats", r.stats, "Write per-frame stage timings and ray counts as JSON");
-  render->add_option("--exposure", r.exposure, "Exposure multiplier applied before tonemapping (PNG only)")
-      ->check(CLI::Range(1e-6f, 1e6f))->capture_default_str();
-  render->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024))->capture_default_str();
-  render->add_option("--lights", r.lights, "builtin:manylights: number of ceiling lights")
-      ->check(CLI::Range(1, 4000000))->capture_default_str();
-  render->add_option("--environment", r.environment,
-                     "Uniform background radiance (grey); default: the built-in scene's own, 0.3 for glTF files")
-      ->check(CLI::Range(0.0f, 1e6f));
-  render->add_flag("--no-jitter", [&r](int64_t) { r.settings.jitter = false; },
-                   "Primary rays through pixel centres instead of jittered positions (no anti-aliasing: isolates the "
-                   "light transport estimator in comparisons)");
-  render->add_flag("--no-accumulate", [&r](int64_t) { r.settings.accumulate = false; },
-                   "Output the last frame alone instead of accumulating frames while camera and scene are still");
-  render->add_flag("--quiet,-q", r.quiet, "No progress output");
+
+  RenderOptions view_frame;
+  ViewerOptions viewer;
+  CLI::App* view = app.add_subcommand("view", "Interactive viewer with per-frame timing (or --headless: off-screen frames to a PNG)");
+  add_frame_options(view, view_frame);
+  view->add_option("--scale", viewer.scale, "Render resolution = window resolution x scale")
+      ->check(CLI::Range(0.01f, 1.0f))->capture_default_str();
+  view->add_flag("--headless", viewer.headless, "No window: draw frames and HUD off screen (OSMesa); needs --frames");
+  view->add_option("--frames", viewer.frames, "Stop after this many frames (0 = when the window is closed)")
+      ->check(CLI::Range(0, 1 << 24))->capture_default_str();
+  view->add_option("--screenshot", viewer.screenshot, "After the last frame, write the window's content (frame + HUD) as PNG");
+  view->add_option("--camera-orbit", viewer.orbit_degrees_per_frame, "The camera orbits its target by this many degrees per frame")
+      ->check(CLI::Range(-360.0f, 360.0f));
+  std::map<std::string, DisplayView> views;
+  for (DisplayView v : kDisplayViews) views[display_view_option(v)] = v;
+  view->add_option("--show", viewer.view, "What is displayed first: radiance, or a debug view of the G-buffer (albedo, normal, "
+                                          "depth, motion) or of the reservoirs (reservoir-m, reservoir-w; restir-di)")
+      ->transform(CLI::CheckedTransformer(views))->capture_default_str();
+  view->add_option("--test-minimise", viewer.test_minimise_frame, "Test hook: minimise the window for 3 frames from this frame on")
+      ->check(CLI::Range(0, 1 << 24));
 
   std::string compare_image, compare_reference;
   CLI::App* compare = app.add_subcommand("compare", "Error of an image against a reference (EXR): MSE and relMSE");
@@ -248,11 +302,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  int threads = render->parsed() ? r.threads : b.threads;
+  int threads = render->parsed() ? r.threads : view->parsed() ? view_frame.threads : b.threads;
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
     if (render->parsed()) return run_render(r);
+    if (view->parsed()) return run_view(view_frame, viewer);
     if (compare->parsed()) {
       ImageError e = compare_images(read_image(compare_image), read_image(compare_reference));
       std::printf("mse %.6e rel_mse %.6e mean_difference %+.6e standard_error %.6e\n", e.mse, e.rel_mse, e.mean_difference,

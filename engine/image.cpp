@@ -31,26 +31,11 @@ static bool has_extension(const std::string& path, const char* ext) {
   return e == ext;
 }
 
-void write_image(const std::string& path, const Image& image, float exposure) {
-  bool exr = has_extension(path, ".exr");
-  if (!exr && !has_extension(path, ".png"))
-    throw InputError(path + ": output must end in .exr or .png");
+// Writes `data` (laid out as `spec` says) to `path` through a temporary file beside it, then renames it
+// into place, so the file appears whole or not at all. Throws InputError naming the file.
+static void write_atomically(const std::string& path, const OIIO::ImageSpec& spec, const void* data) {
   std::filesystem::path target(path);
   std::filesystem::path tmp = target.parent_path() / ("." + target.stem().string() + ".tmp" + target.extension().string());
-  OIIO::ImageSpec spec(image.width, image.height, 3, exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  std::vector<float> linear;
-  std::vector<uint8_t> srgb;
-  const void* data;
-  if (exr) {
-    data = image.pixels.data();
-  } else {
-    srgb.resize(image.pixels.size() * 3);
-    for (size_t i = 0; i < image.pixels.size(); ++i) {
-      vec3 c = tonemap_srgb(image.pixels[i], exposure);
-      for (int k = 0; k < 3; ++k) srgb[3 * i + k] = uint8_t(std::lround(c[k] * 255.0f));
-    }
-    data = srgb.data();
-  }
   auto out = OIIO::ImageOutput::create(tmp.string());
   bool ok = out && out->open(tmp.string(), spec) && out->write_image(spec.format, data) && out->close();
   std::error_code ec;
@@ -64,6 +49,28 @@ void write_image(const std::string& path, const Image& image, float exposure) {
     std::filesystem::remove(tmp, ec);
     throw InputError(path + ": cannot write image: " + ec.message());
   }
+}
+
+void write_image(const std::string& path, const Image& image, float exposure) {
+  bool exr = has_extension(path, ".exr");
+  if (!exr && !has_extension(path, ".png"))
+    throw InputError(path + ": output must end in .exr or .png");
+  OIIO::ImageSpec spec(image.width, image.height, 3, exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  if (exr) {
+    write_atomically(path, spec, image.pixels.data());
+    return;
+  }
+  std::vector<uint8_t> srgb(image.pixels.size() * 3);
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
+    vec3 c = tonemap_srgb(image.pixels[i], exposure);
+    for (int k = 0; k < 3; ++k) srgb[3 * i + k] = uint8_t(std::lround(c[k] * 255.0f));
+  }
+  write_atomically(path, spec, srgb.data());
+}
+
+void write_png_rgba8(const std::string& path, int width, int height, const uint8_t* rgba) {
+  if (!has_extension(path, ".png")) throw InputError(path + ": must end in .png");
+  write_atomically(path, OIIO::ImageSpec(width, height, 4, OIIO::TypeDesc::UINT8), rgba);
 }
 
 Image read_image(const std::string& path) {

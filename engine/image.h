@@ -1,5 +1,6 @@
 #pragma once
 // Linear RGB images, tonemapping and atomic image files (EXR keeps linear radiance, PNG is tonemapped sRGB).
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ vec3 tonemap_srgb(const vec3& linear, float exposure = 1.0f);
 // Writes .exr (float, linear) or .png (8-bit tonemapped sRGB) chosen by extension. The file appears
 // atomically (written beside it under a temporary name, then renamed). Throws InputError on failure.
 void write_image(const std::string& path, const Image& image, float exposure = 1.0f);
+// Writes 8-bit RGBA pixels (row 0 at the top, already display-encoded) as a PNG, atomically like
+// write_image. Throws InputError on failure.
+void write_png_rgba8(const std::string& path, int width, int height, const uint8_t* rgba);
 // Reads an EXR (or any OIIO format) as linear RGB. Throws InputError naming the file on failure.
 Image read_image(const std::string& path);
 

@@ -1,0 +1,254 @@
+#include "apps/viewer/hud.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace candela {
+
+void FrameHistory::push(double frame_ms, FrameStats stats) {
+  if (frames_.size() == kCapacity) frames_.pop_front();
+  frames_.push_back({frame_ms, std::move(stats)});
+}
+
+namespace {
+
+constexpr float kHudWidth = 360.0f;
+
+// A colour per stage, fixed by the stage's order of first appearance: hues a golden-ratio turn apart, so
+// neighbours in the legend differ and no two of the first dozen look alike.
+ImU32 stage_colour(int index) {
+  float r, g, b;
+  ImGui::ColorConvertHSVtoRGB(std::fmod(0.1f + 0.618034f * float(index), 1.0f), 0.65f, 0.95f, r, g, b);
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(r, g, b, 1.0f));
+}
+
+// Stacked bars of per-stage milliseconds, one column per recorded frame (oldest left), then a legend with
+// each stage's last and mean milliseconds and rays. Cost: O(frames x stages) rectangles.
+void draw_stage_graph(const FrameHistory& history) {
+  std::vector<std::string> names;  // stages in order of first appearance
+  for (size_t f = 0; f < history.size(); ++f)
+    for (const StageStats& s : history.stats(f).stages)
+      if (std::find(names.begin(), names.end(), s.name) == names.end()) names.push_back(s.name);
+  double max_ms = 1.0;
+  for (size_t f = 0; f < history.size(); ++f) max_ms = std::max(max_ms, history.stats(f).total_ms);
+  const ImVec2 size(ImGui::GetContentRegionAvail().x, 80.0f);
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y), IM_COL32(30, 30, 30, 200));
+  const float column = size.x / float(FrameHistory::kCapacity);
+  for (size_t f = 0; f < history.size(); ++f) {
+    float x0 = origin.x + size.x - float(history.size() - f) * column, y = origin.y + size.y;
+    for (const StageStats& s : history.stats(f).stages) {
+      int index = int(std::find(names.begin(), names.end(), s.name) - names.begin());
+      float h = float(s.ms / max_ms) * size.y;
+      draw->AddRectFilled(ImVec2(x0, y - h), ImVec2(x0 + std::max(column, 1.0f), y), stage_colour(index));
+      y -= h;
+    }
+  }
+  draw->AddText(ImVec2(origin.x + 4, origin.y + 2), IM_COL32(255, 255, 255, 255),
+                (std::to_string(int(max_ms + 0.5)) + " ms").c_str());
+  ImGui::Dummy(size);
+  if (!ImGui::BeginTable("stages", 4, ImGuiTableFlags_SizingStretchProp)) return;
+  ImGui::TableSetupColumn("stage");
+  ImGui::TableSetupColumn("ms");
+  ImGui::TableSetupColumn("mean");
+  ImGui::TableSetupColumn("Mrays");
+  ImGui::TableHeadersRow();
+  const FrameStats& last = history.stats(history.size() - 1);
+  for (size_t k = 0; k < names.size(); ++k) {
+    double mean = 0.0;
+    for (size_t f = 0; f < history.size(); ++f) mean += history.stats(f).stage_ms(names[k]);
+    mean /= double(history.size());
+    uint64_t rays = 0;
+    for (const StageStats& s : last.stages)
+      if (s.name == names[k]) rays = s.rays;
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImVec2 p = ImGui::GetCursorScreenPos();
+    float line = ImGui::GetTextLineHeight();
+    ImGui::GetWindowDrawList()->AddRectFilled(p, ImVec2(p.x + line * 0.8f, p.y + line * 0.8f), stage_colour(int(k)));
+    ImGui::SetCursorScreenPos(ImVec2(p.x + line, p.y));
+    ImGui::TextUnformatted(names[k].c_str());
+    ImGui::TableNextColumn();
+    ImGui::Text("%.2f", last.stage_ms(names[k]));
+    ImGui::TableNextColumn();
+    ImGui::Text("%.2f", mean);
+    ImGui::TableNextColumn();
+    ImGui::Text("%.3f", double(rays) * 1e-6);
+  }
+  ImGui::EndTable();
+}
+
+// A combo box over named values; true when the choice changed.
+template <typename T>
+bool combo(const char* label, T& value, const std::vector<std::pair<T, const char*>>& choices) {
+  const char* current = "?";
+  for (const auto& [v, name] : choices)
+    if (v == value) current = name;
+  bool changed = false;
+  if (ImGui::BeginCombo(label, current)) {
+    for (const auto& [v, name] : choices) {
+      if (ImGui::Selectable(name, v == value) && v != value) {
+        value = v;
+        changed = true;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
+
+// Sliders report a change when released, so dragging one rebuilds the Renderer once, not every frame.
+bool slider(const char* label, int& value, int min, int max) {
+  ImGui::SliderInt(label, &value, min, max);
+  return ImGui::IsItemDeactivatedAfterEdit();
+}
+bool slider(const char* label, float& value, float min, float max, const char* format = "%.1f") {
+  ImGui::SliderFloat(label, &value, min, max, format);
+  return ImGui::IsItemDeactivatedAfterEdit();
+}
+
+// Settings of the estimator, light selection and denoiser; true when one changed.
+bool draw_renderer_settings(HudState& state) {
+  RenderSettings& s = state.settings;
+  bool changed = false;
+  changed |= combo<Method>("method", s.method, {{Method::PathTrace, "pt"}, {Method::Direct, "direct"}, {Method::RestirDi, "restir-di"},
+                                                     {Method::Restir, "restir"}});
+  changed |= combo<LightSamplerKind>("light sampler", s.light_sampler,
+                                     {{LightSamplerKind::Uniform, "uniform"}, {LightSamplerKind::Power, "power"},
+                                      {LightSamplerKind::Tree, "tree"}, {LightSamplerKind::Exhaustive, "exhaustive"}});
+  changed |= combo<DenoiserKind>("denoiser", s.denoise.kind,
+                                 {{DenoiserKind::None, "none"}, {DenoiserKind::Bilateral, "bilateral"}, {DenoiserKind::Svgf, "svgf"}});
+  changed |= slider("spp", s.spp, 1, 16);
+  ImGui::BeginDisabled(s.method != Method::PathTrace && s.method != Method::Restir);
+  changed |= slider("max depth", s.max_depth, 1, 16);
+  ImGui::EndDisabled();
+  changed |= slider("resolution scale", state.scale, 0.125f, 1.0f, "%.3f");
+  changed |= ImGui::Checkbox("accumulate", &s.accumulate);
+  ImGui::SameLine();
+  changed |= ImGui::Checkbox("jitter", &s.jitter);
+  ImGui::SameLine();
+  ImGui::Checkbox("pause time", &state.pause_time);
+  return changed;
+}
+
+// One reservoir chain's reuse parameters (ReSTIR DI's or GI's); true when one changed.
+bool draw_reuse_settings(DiReuseParams& r) {
+  bool changed = false;
+  int reuse = int(r.temporal) | int(r.spatial) << 1;
+  if (combo<int>("reuse", reuse, {{0, "none"}, {1, "temporal"}, {2, "spatial"}, {3, "both"}})) {
+    r.temporal = reuse & 1;
+    r.spatial = reuse & 2;
+    changed = true;
+  }
+  changed |= combo<DiBiasCorrection>("bias", r.bias,
+                                     {{DiBiasCorrection::None, "none"}, {DiBiasCorrection::Basic, "basic"},
+                                      {DiBiasCorrection::Pairwise, "pairwise"}});
+  changed |= slider("neighbours", r.spatial_neighbours, 0, 31);
+  changed |= slider("radius (px)", r.spatial_radius, 1.0f, 64.0f, "%.1f");
+  changed |= slider("spatial passes", r.spatial_passes, 1, 8);
+  changed |= slider("disocclusion k", r.disocclusion_neighbours, 0, 31);
+  changed |= slider("history cap", r.history_cap, 0.0f, 100.0f, "%.1f");
+  changed |= slider("boiling filter", r.boiling_threshold, 0.0f, 100.0f, "%.1f");
+  changed |= slider("visibility reuse", r.visibility_reuse_frames, 0, 16);
+  changed |= ImGui::Checkbox("permutation sampling", &r.permutation_sampling);
+  return changed;
+}
+
+// ReSTIR DI candidates and reuse; true when one changed. Disabled unless the method is restir-di or restir.
+bool draw_restir_di_settings(RenderSettings& s) {
+  ImGui::BeginDisabled(s.method != Method::RestirDi && s.method != Method::Restir);
+  ImGui::PushID("di");
+  bool changed = false;
+  changed |= slider("candidates", s.di.light_candidates, 0, 64);
+  changed |= slider("bsdf candidates", s.di.bsdf_candidates, 0, 8);
+  changed |= ImGui::Checkbox("candidate visibility", &s.di.candidate_visibility);
+  changed |= ImGui::Checkbox("MIS visibility (basic)", &s.di_reuse.mis_visibility);
+  changed |= draw_reuse_settings(s.di_reuse);
+  ImGui::PopID();
+  ImGui::EndDisabled();
+  return changed;
+}
+
+// ReSTIR GI reuse and its sample rejections; true when one changed. Disabled unless the method is restir.
+bool draw_restir_gi_settings(RenderSettings& s) {
+  ImGui::BeginDisabled(s.method != Method::Restir);
+  ImGui::PushID("gi");
+  bool changed = draw_reuse_settings(s.gi_reuse);
+  changed |= slider("max Jacobian", s.gi_reuse.max_jacobian, 0.0f, 100.0f, "%.1f");
+  changed |= slider("min roughness", s.gi_reuse.min_roughness, 0.0f, 1.0f, "%.2f");
+  changed |= slider("max sample age", s.gi_reuse.max_sample_age, 0, 255);
+  ImGui::PopID();
+  ImGui::EndDisabled();
+  return changed;
+}
+
+}  // namespace
+
+HudActions draw_hud(HudState& state, const FrameHistory& history, const Renderer& renderer, const CameraDesc& camera,
+                    HudRect& rect) {
+  HudActions actions;
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f), ImGuiCond_Always);
+  const float width = std::max(std::min(kHudWidth, io.DisplaySize.x - 16.0f), 64.0f);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(width, 0.0f), ImVec2(width, std::max(io.DisplaySize.y - 16.0f, 32.0f)));
+  ImGui::SetNextWindowBgAlpha(0.8f);
+  if (ImGui::Begin("candela", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove)) {
+    if (history.size() > 0) {
+      const double frame_ms = history.frame_ms(history.size() - 1);
+      const FrameStats& last = history.stats(history.size() - 1);
+      ImGui::Text("%dx%d  frame %d  %d spp accumulated", renderer.settings().width, renderer.settings().height, last.frame,
+                  renderer.accumulated_spp());
+      ImGui::Text("frame %.1f ms (%.1f FPS), render %.1f ms", frame_ms, 1000.0 / std::max(frame_ms, 1e-3), last.total_ms);
+      float frame_times[FrameHistory::kCapacity], mrays[FrameHistory::kCapacity];
+      for (size_t f = 0; f < history.size(); ++f) {
+        frame_times[f] = float(history.frame_ms(f));
+        mrays[f] = float(double(history.stats(f).rays()) * 1e-6);
+      }
+      char overlay[64];
+      std::snprintf(overlay, sizeof(overlay), "frame ms (last %zu)", history.size());
+      ImGui::PlotLines("##frame_ms", frame_times, int(history.size()), 0, overlay, 0.0f, FLT_MAX,
+                       ImVec2(ImGui::GetContentRegionAvail().x, 40.0f));
+      std::snprintf(overlay, sizeof(overlay), "rays per frame: %.3f M (%.1f Mrays/s)", mrays[history.size() - 1],
+                    mrays[history.size() - 1] / std::max(last.total_ms * 1e-3, 1e-6));
+      ImGui::PlotLines("##rays", mrays, int(history.size()), 0, overlay, 0.0f, FLT_MAX,
+                       ImVec2(ImGui::GetContentRegionAvail().x, 40.0f));
+      draw_stage_graph(history);
+    }
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);  // leaves room for the labels
+    if (ImGui::CollapsingHeader("Renderer", ImGuiTreeNodeFlags_DefaultOpen)) actions.settings_changed |= draw_renderer_settings(state);
+    if (ImGui::CollapsingHeader("ReSTIR DI")) actions.settings_changed |= draw_restir_di_settings(state.settings);
+    if (ImGui::CollapsingHeader("ReSTIR GI")) actions.settings_changed |= draw_restir_gi_settings(state.settings);
+    if (ImGui::CollapsingHeader("View")) {
+      for (DisplayView v : kDisplayViews) {
+        ImGui::BeginDisabled(!display_view_available(v, renderer));
+        if (ImGui::RadioButton(display_view_name(v), state.view == v)) state.view = v;
+        ImGui::EndDisabled();
+        if (v != DisplayView::Normal && v != DisplayView::Motion && v != DisplayView::ReservoirW) ImGui::SameLine();
+      }
+      ImGui::SliderFloat("exposure", &state.exposure, 0.01f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
+      ImGui::Text("camera (%.1f, %.1f, %.1f) -> (%.1f, %.1f, %.1f)", camera.position.x, camera.position.y, camera.position.z,
+                  camera.target.x, camera.target.y, camera.target.z);
+      ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+      ImGui::TextWrapped("orbit: left drag, wheel; fly: right drag + WASD QE (shift: faster)");
+      ImGui::PopStyleColor();
+    }
+    ImGui::PopItemWidth();
+    actions.reset = ImGui::Button("reset");
+    ImGui::SameLine();
+    actions.save_png = ImGui::Button("save PNG");
+    ImGui::SameLine();
+    actions.save_exr = ImGui::Button("save EXR");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-1.0f);
+    ImGui::InputText("##screenshot", state.screenshot_base, sizeof(state.screenshot_base));
+    if (!state.status.empty()) ImGui::TextWrapped("%s", state.status.c_str());
+  }
+  rect = {ImGui::GetWindowPos().x, ImGui::GetWindowPos().y, ImGui::GetWindowSize().x, ImGui::GetWindowSize().y};
+  ImGui::End();
+  return actions;
+}
+
+}  // namespace candela
