@@ -6,10 +6,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
+#include <set>
 
 #include "apps/bench.h"
 #include "apps/renderer.h"
 #include "apps/scene_source.h"
+#include "apps/sequence.h"
+#include "apps/shot_script.h"
+#include "apps/settings_names.h"
 #include "apps/stats_json.h"
 #include "engine/check.h"
 #include "engine/image_metrics.h"
@@ -22,7 +27,10 @@ struct RenderOptions {
   std::string scene;
   std::string out;
   std::string stats;
-  int frames = 1;
+  std::string script;        // --script: a shot script instead of scene and options
+  std::string frames = "1";  // a count, or with --script a range FIRST:LAST
+  std::optional<int> warmup;
+  int stop_after = 0;
   float fps = 30.0f;
   float exposure = 1.0f;
   int threads = 0;
@@ -56,23 +64,26 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
 // Renders `frames` frames (scene time advances by 1/fps per frame), prints progress and per-frame
 // timings, writes the last frame's image and optionally the stats of every frame.
 int run_render(RenderOptions& o) {
+  if (o.scene.empty()) throw InputError("render: give a SCENE (or --script SHOT.json)");
+  if (o.out.empty()) throw InputError("--out is required");
+  int frames = 0;
+  try {
+    size_t used = 0;
+    frames = std::stoi(o.frames, &used);
+    if (used != o.frames.size() || frames < 1) throw std::invalid_argument(o.frames);
+  } catch (const std::logic_error&) {
+    throw InputError("--frames " + o.frames + ": expected a positive number of frames (FIRST:LAST needs --script)");
+  }
   if (int64_t(o.settings.width) * o.settings.height > (int64_t(1) << 26))
     throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
   check_output_path(o.out, {".exr", ".png"}, "--out");
   if (o.aov != "none" && o.method != "restir-di") throw InputError("--aov " + o.aov + ": needs --method restir-di");
   if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
-  const std::map<std::string, LightSamplerKind> samplers = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
-                                                            {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
-  o.settings.light_sampler = samplers.at(o.light_sampler);
-  o.settings.denoise.kind = o.denoise == "bilateral" ? DenoiserKind::Bilateral
-                            : o.denoise == "svgf"    ? DenoiserKind::Svgf
-                                                     : DenoiserKind::None;
-  o.settings.di_reuse.temporal = o.di_reuse == "temporal" || o.di_reuse == "both";
-  o.settings.di_reuse.spatial = o.di_reuse == "spatial" || o.di_reuse == "both";
-  o.settings.di_reuse.bias = o.di_bias == "none"    ? DiBiasCorrection::None
-                             : o.di_bias == "basic" ? DiBiasCorrection::Basic
-                                                    : DiBiasCorrection::Pairwise;
-  o.settings.method = o.method == "direct" ? Method::Direct : o.method == "restir-di" ? Method::RestirDi : Method::PathTrace;
+  o.settings.light_sampler = light_sampler_names().at(o.light_sampler);
+  o.settings.denoise.kind = denoiser_names().at(o.denoise);
+  set_di_reuse(o.di_reuse, o.settings.di_reuse);
+  o.settings.di_reuse.bias = di_bias_names().at(o.di_bias);
+  o.settings.method = method_names().at(o.method);
   BuiltinOptions builtin;
   builtin.light_count = o.lights;
   auto t0 = std::chrono::steady_clock::now();
@@ -88,15 +99,15 @@ int run_render(RenderOptions& o) {
                  triangles, renderer.lights().size(), renderer.lights().triangle_count(), setup_ms);
   std::vector<FrameStats> all;
   CameraDesc camera = renderer.scene().default_camera();
-  for (int f = 0; f < o.frames; ++f) {
+  for (int f = 0; f < frames; ++f) {
     auto progress = [&](int done, int total) {
       if (o.quiet || (total > 0 && total <= 4)) return;
-      if (total > 0) std::fprintf(stderr, "\r  frame %d/%d: %d/%d spp", f + 1, o.frames, done, total);
-      else std::fprintf(stderr, "\r  frame %d/%d: %d spp", f + 1, o.frames, done);
+      if (total > 0) std::fprintf(stderr, "\r  frame %d/%d: %d/%d spp", f + 1, frames, done, total);
+      else std::fprintf(stderr, "\r  frame %d/%d: %d spp", f + 1, frames, done);
     };
     FrameStats stats = renderer.render_frame(f, float(f) / o.fps, camera, progress);
     if (!o.quiet) {
-      std::fprintf(stderr, "\rframe %d/%d: %d spp, %.1f ms, %.2f Mrays/s |", f + 1, o.frames, stats.spp, stats.total_ms,
+      std::fprintf(stderr, "\rframe %d/%d: %d spp, %.1f ms, %.2f Mrays/s |", f + 1, frames, stats.spp, stats.total_ms,
                    stats.rays() / (stats.total_ms * 1e3));
       for (const StageStats& s : stats.stages) std::fprintf(stderr, " %s %.1f ms", s.name.c_str(), s.ms);
       std::fprintf(stderr, "\n");
@@ -114,6 +125,22 @@ int run_render(RenderOptions& o) {
   return 0;
 }
 
+// `render --script`: the script holds scene and settings; only the run's own options may be given.
+int run_script(const CLI::App& render, const RenderOptions& o) {
+  for (const CLI::Option* opt : render.get_options()) {
+    static const std::set<std::string> allowed = {"--script", "--frames", "--warmup", "--stop-after", "--threads", "--quiet", "--help"};
+    if (opt->count() > 0 && !allowed.count(opt->get_name()) && !opt->get_name().empty())
+      throw InputError(opt->get_name() + ": not allowed with --script (set it in " + o.script + ")");
+  }
+  ShotScript script = read_shot_script(o.script);
+  SequenceOptions options;
+  if (render.get_option("--frames")->count() > 0) options.range = parse_frame_range(o.frames, script);
+  options.warmup = o.warmup;
+  options.stop_after = o.stop_after;
+  options.quiet = o.quiet;
+  return run_sequence(script, options);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -122,13 +149,21 @@ int main(int argc, char** argv) {
 
   RenderOptions r;
   CLI::App* render = app.add_subcommand("render", "Render a scene to an image file");
-  render->add_option("scene", r.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
-  render->add_option("--out,-o", r.out, "Output image: .exr (linear radiance) or .png (tonemapped sRGB)")->required();
+  render->add_option("scene", r.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file (not with --script)");
+  render->add_option("--out,-o", r.out, "Output image: .exr (linear radiance) or .png (tonemapped sRGB) (not with --script)");
+  render->add_option("--script", r.script, "Render the frame sequence a shot script describes (JSON; see README)");
+  render->add_option("--warmup", r.warmup,
+                     "--script: frames rendered but not written before the first frame to render, so temporal history is "
+                     "warm (default: the script's \"warmup\"; unused with history_reset_every)")
+      ->check(CLI::Range(0, 100000));
+  render->add_option("--stop-after", r.stop_after, "--script: stop after writing this many frames")->check(CLI::Range(0, 1 << 30));
   render->add_option("--width", r.settings.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   render->add_option("--height", r.settings.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   render->add_option("--spp", r.settings.spp, "Samples per pixel per frame")->check(CLI::Range(1, 1 << 20))->capture_default_str();
-  render->add_option("--frames", r.frames, "Frames to render; a still scene and camera accumulate across frames")
-      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  render->add_option("--frames", r.frames,
+                     "Frames to render; a still scene and camera accumulate across frames. With --script: the frames "
+                     "FIRST:LAST (inclusive) of the script to render (a shard)")
+      ->capture_default_str();
   render->add_option("--fps", r.fps, "Scene time step between frames is 1/fps seconds (animated scenes)")
       ->check(CLI::Range(0.001f, 10000.0f))->capture_default_str();
   render->add_option("--seed", r.settings.seed, "Random seed; same seed, same image, whatever the thread count")->capture_default_str();
@@ -137,7 +172,7 @@ int main(int argc, char** argv) {
   render->add_option("--method", r.method,
                      "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF sample "
                      "combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling)")
-      ->check(CLI::IsMember({"pt", "direct", "restir-di"}))->capture_default_str();
+      ->check(CLI::IsMember(keys_of(method_names())))->capture_default_str();
   render->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   render->add_option("--di-bsdf-candidates", r.settings.di.bsdf_candidates,
@@ -147,11 +182,11 @@ int main(int argc, char** argv) {
                    "restir-di: trace a shadow ray to the chosen candidate before reuse (drops occluded choices; "
                    "the basic bias correction is then no longer exactly unbiased)");
   render->add_option("--di-reuse", r.di_reuse, "restir-di: reuse stages")
-      ->check(CLI::IsMember({"none", "temporal", "spatial", "both"}))->capture_default_str();
+      ->check(CLI::IsMember(di_reuse_names()))->capture_default_str();
   render->add_option("--di-bias", r.di_bias,
                      "restir-di: bias correction of reuse: none (1/M), basic (generalized balance heuristic, k^2 target "
                      "evaluations) or pairwise (pairwise MIS, k evaluations)")
-      ->check(CLI::IsMember({"none", "basic", "pairwise"}))->capture_default_str();
+      ->check(CLI::IsMember(keys_of(di_bias_names())))->capture_default_str();
   render->add_flag("--di-mis-visibility", r.settings.di_reuse.mis_visibility,
                    "restir-di, --di-bias basic: include visibility in the reuse MIS weights (unbiased also with "
                    "--di-visibility; (k+1)^2 shadow rays per pixel)");
@@ -180,9 +215,9 @@ int main(int argc, char** argv) {
   render->add_option("--denoise", r.denoise,
                      "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
                      "(spatiotemporal variance-guided filtering); both demodulate by albedo")
-      ->check(CLI::IsMember({"none", "bilateral", "svgf"}))->capture_default_str();
+      ->check(CLI::IsMember(keys_of(denoiser_names())))->capture_default_str();
   render->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
-      ->check(CLI::IsMember({"uniform", "power", "tree", "exhaustive"}))->capture_default_str();
+      ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();
   render->add_option("--time-budget-ms", r.settings.time_budget_ms,
                      "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds (overrides --spp)")
       ->check(CLI::Range(0.0, 1e9));
@@ -224,7 +259,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
-    if (render->parsed()) return run_render(r);
+    if (render->parsed()) return r.script.empty() ? run_render(r) : run_script(*render, r);
     if (compare->parsed()) {
       ImageError e = compare_images(read_image(compare_image), read_image(compare_reference));
       std::printf("mse %.6e rel_mse %.6e mean_difference %+.6e standard_error %.6e\n", e.mse, e.rel_mse, e.mean_difference,
