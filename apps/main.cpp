@@ -1,4 +1,4 @@
-// `candela`: one binary, subcommands `render`, `compare` and `bench`. Bad command lines and bad input files print a
+// `candela`: one binary, subcommands `render`, `converge`, `compare` and `bench`. Bad command lines and bad input files print a
 // message naming the option or file and exit non-zero.
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
@@ -10,6 +10,7 @@
 #include <set>
 
 #include "apps/bench.h"
+#include "apps/converge.h"
 #include "apps/renderer.h"
 #include "apps/scene_source.h"
 #include "apps/sequence.h"
@@ -246,6 +247,46 @@ int main(int argc, char** argv) {
   compare->add_option("image", compare_image, "Image to measure (.exr)")->required()->check(CLI::ExistingFile);
   compare->add_option("reference", compare_reference, "Reference image (.exr), e.g. a converged render")->required()->check(CLI::ExistingFile);
 
+  ConvergeOptions c;
+  c.base.width = 160;
+  c.base.height = 90;
+  c.base.light_sampler = LightSamplerKind::Tree;
+  c.base.jitter = false;
+  c.methods = {"direct-uniform", "direct-power", "direct-tree", "restir-di-none", "restir-di-basic", "restir-di-pairwise", "pt"};
+  std::string converge_light_sampler = "tree";
+  CLI::App* converge = app.add_subcommand("converge", "Error against samples and time of each method: CSV and a log-log plot");
+  converge->add_option("scene", c.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
+  converge->add_option("--csv", c.csv, "Output CSV: method, samples, time_ms, mse, rel_mse, mean_difference, standard_error")
+      ->required();
+  converge->add_option("--plot", c.plot, "Output PNG: relMSE against time, log-log, one line per method (needs gnuplot)");
+  converge->add_option("--methods", c.methods, "Methods to run (direct-uniform, direct-power, direct-tree, restir-di-none, "
+                                               "restir-di-basic, restir-di-pairwise, pt)")
+      ->delimiter(',')->capture_default_str();
+  converge->add_option("--reference", c.reference, "Converged full-transport EXR for pt (default: rendered)")->check(CLI::ExistingFile);
+  converge->add_option("--reference-direct", c.reference_direct,
+                       "Converged direct-light EXR for direct-* and restir-di-* (default: rendered with --method direct)")
+      ->check(CLI::ExistingFile);
+  converge->add_option("--reference-spp", c.reference_spp, "Samples per pixel of rendered references")
+      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  converge->add_option("--max-spp", c.max_spp, "Largest sample count; counts are 1, 2, 4, ... up to it")
+      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  converge->add_option("--max-seconds", c.max_seconds, "Stop a method after the count at which it passed this time (0 = off)")
+      ->check(CLI::Range(0.0, 1e9))->capture_default_str();
+  converge->add_option("--width", c.base.width, "Image width")->check(CLI::Range(1, 16384))->capture_default_str();
+  converge->add_option("--height", c.base.height, "Image height")->check(CLI::Range(1, 16384))->capture_default_str();
+  converge->add_option("--seed", c.base.seed, "Random seed of the methods (references use seed + 7919)")->capture_default_str();
+  converge->add_option("--max-depth", c.base.max_depth, "Path tracer bounces (pt and its reference)")
+      ->check(CLI::Range(1, 1024))->capture_default_str();
+  converge->add_option("--light-sampler", converge_light_sampler, "Light sampler of pt, restir-di-* candidates and references")
+      ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();
+  converge->add_option("--lights", c.lights, "builtin:manylights: number of ceiling lights")->check(CLI::Range(1, 4000000))->capture_default_str();
+  converge->add_option("--environment", c.environment, "Uniform background radiance; default: the scene's own")->check(CLI::Range(0.0f, 1e6f));
+  converge->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024));
+  converge->add_flag("--jitter", c.base.jitter,
+                     "Jitter primary rays (adds pixel-coverage noise of edges and small emitters to every method; "
+                     "default: pixel centres, which isolates the light transport estimators)");
+  converge->add_flag("--quiet,-q", c.quiet, "No progress output");
+
   BenchOptions b;
   CLI::App* bench = app.add_subcommand("bench", "Ray throughput benchmarks (Google Benchmark)");
   add_bench_options(*bench, b);
@@ -255,11 +296,15 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  int threads = render->parsed() ? r.threads : b.threads;
+  int threads = render->parsed() || converge->parsed() ? r.threads : b.threads;
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
     if (render->parsed()) return r.script.empty() ? run_render(r) : run_script(*render, r);
+    if (converge->parsed()) {
+      c.base.light_sampler = light_sampler_names().at(converge_light_sampler);
+      return run_converge(c);
+    }
     if (compare->parsed()) {
       ImageError e = compare_images(read_image(compare_image), read_image(compare_reference));
       std::printf("mse %.6e rel_mse %.6e mean_difference %+.6e standard_error %.6e\n", e.mse, e.rel_mse, e.mean_difference,

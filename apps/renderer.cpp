@@ -124,6 +124,7 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, 
   params.first_sample = accumulated_spp_;
   params.max_depth = settings_.method == Method::Direct ? 1 : settings_.max_depth;
   params.seed = settings_.seed;
+  params.jitter = settings_.jitter;
   std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
 }
 

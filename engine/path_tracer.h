@@ -20,6 +20,7 @@ struct PathTracerParams {
   int max_depth = 8;       // bounces; 1 = direct light only (emission seen + one reflection)
   int rr_start_depth = 3;  // Russian roulette from this bounce on (keeps deep paths unbiased)
   uint64_t seed = 0;
+  bool jitter = true;      // false: primary rays through pixel centres (the G-buffer's --no-jitter)
 };
 
 // Everything a frame's estimators read about the scene, fixed for the frame.
@@ -120,7 +121,8 @@ void path_trace(const SceneView& view, const S& sampler, const PathTracerParams&
     vec3 acc(0.0f);
     for (int s = 0; s < params.spp; ++s) {
       Rng rng = Rng::for_key(params.seed, pixel, uint64_t(params.first_sample + s), uint64_t(frame));
-      vec2 film = vec2(x, y) + vec2(rng.next_float(), rng.next_float());
+      vec2 u(rng.next_float(), rng.next_float());
+      vec2 film = vec2(x, y) + (params.jitter ? u : vec2(0.5f));
       vec3 L = trace_path(view, sampler, params, film, rng, traced);
       if (is_finite(L)) acc += L;
     }
