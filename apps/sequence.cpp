@@ -47,7 +47,7 @@ void write_frame(const ShotScript& script, const Renderer& renderer, int frame) 
 // is rewritten atomically after each frame (stats_to_json plus "written" and "time").
 class StatsFiles {
  public:
-  StatsFiles(const std::string& base) : base_(base) {
+  explicit StatsFiles(const std::string& base) : base_(base) {
     if (base_.empty()) return;
     csv_.open(base_ + ".csv", std::ios::trunc);
     if (!csv_) throw InputError(base_ + ".csv: cannot open for writing");
@@ -165,8 +165,10 @@ int run_sequence(const ShotScript& script, const SequenceOptions& options) {
   if (script.environment >= 0.0f) scene.environment = vec3(script.environment);
   else if (script.scene.rfind("builtin:", 0) != 0) scene.environment = vec3(0.3f);
   apply_shot_animation(script, scene);
-  for (const std::string& pattern : output_patterns(script)) {
-    std::filesystem::path dir = std::filesystem::path(frame_path(pattern, 0)).parent_path();
+  std::vector<std::string> files = output_patterns(script);
+  files.push_back(script.output.stats);
+  for (const std::string& pattern : files) {
+    std::filesystem::path dir = std::filesystem::path(pattern == script.output.stats ? pattern : frame_path(pattern, 0)).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
   }
   std::string stats_base = script.output.stats;

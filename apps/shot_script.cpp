@@ -212,15 +212,25 @@ void read_camera(ObjectReader& parent, ShotScript& s) {
   r.finish();
 }
 
-void read_instances(ObjectReader& parent, ShotScript& s) {
-  const json* list = parent.get("instances");
+// Calls read(entry, where) for each object of the array `key` ("instances[2]"); absent: nothing.
+template <class Read>
+void read_objects(ObjectReader& parent, const std::string& key, Read read) {
+  const json* list = parent.get(key);
   if (!list) return;
-  if (!list->is_array()) parent.fail("instances", "expected an array");
+  if (!list->is_array()) parent.fail(key, "expected an array");
   for (size_t i = 0; i < list->size(); ++i) {
+    const std::string where = key + "[" + std::to_string(i) + "]";
+    ObjectReader r(parent.file(), (*list)[i], where);
+    read(r, where);
+    r.finish();
+  }
+}
+
+void read_instances(ObjectReader& parent, ShotScript& s) {
+  read_objects(parent, "instances", [&](ObjectReader& r, const std::string& where) {
     InstanceKeys keys;
-    keys.where = "instances[" + std::to_string(i) + "]";
-    ObjectReader r(parent.file(), (*list)[i], keys.where);
-    if (r.has("instance") == r.has("name")) r.fail_at(keys.where, "give exactly one of \"instance\" (index) or \"name\"");
+    keys.where = where;
+    if (r.has("instance") == r.has("name")) r.fail_at(where, "give exactly one of \"instance\" (index) or \"name\"");
     keys.index = r.integer("instance", 0, std::numeric_limits<int>::max(), -1);
     keys.name = r.text("name", "");
     keys.interpolation = r.named("interpolation", interpolation_names(), Interpolation::Linear);
@@ -236,21 +246,16 @@ void read_instances(ObjectReader& parent, ShotScript& s) {
       if (translation) keys.translation.push_back(k.vector3(*k.get("translation"), k.path("translation")));
       if (rotation) keys.rotation_degrees.push_back(k.vector3(*k.get("rotation_degrees"), k.path("rotation_degrees")));
     });
-    r.finish();
     s.instances.push_back(std::move(keys));
-  }
+  });
 }
 
 void read_light_power(ObjectReader& parent, ShotScript& s) {
-  const json* list = parent.get("light_power");
-  if (!list) return;
-  if (!list->is_array()) parent.fail("light_power", "expected an array");
-  for (size_t i = 0; i < list->size(); ++i) {
+  read_objects(parent, "light_power", [&](ObjectReader& r, const std::string& where) {
     PowerKeys keys;
-    keys.where = "light_power[" + std::to_string(i) + "]";
-    ObjectReader r(parent.file(), (*list)[i], keys.where);
+    keys.where = where;
     if (int(r.has("punctual")) + int(r.has("material")) + int(r.has("material_name")) != 1)
-      r.fail_at(keys.where, "give exactly one of \"punctual\", \"material\" (indices) or \"material_name\"");
+      r.fail_at(where, "give exactly one of \"punctual\", \"material\" (indices) or \"material_name\"");
     keys.punctual = r.integer("punctual", 0, std::numeric_limits<int>::max(), -1);
     keys.material = r.integer("material", 0, std::numeric_limits<int>::max(), -1);
     keys.material_name = r.text("material_name", "");
@@ -259,9 +264,8 @@ void read_light_power(ObjectReader& parent, ShotScript& s) {
       if (!k.has("scale")) k.fail("scale", "missing");
       keys.scale.push_back(float(k.number("scale", 1e-6, 1e6, 1.0)));
     });
-    r.finish();
     s.light_power.push_back(std::move(keys));
-  }
+  });
 }
 
 void read_output(ObjectReader& parent, ShotScript& s) {
