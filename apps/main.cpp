@@ -1,15 +1,21 @@
-// `candela`: one binary, subcommands `render`, `view`, `compare` and `bench`. Bad command lines and bad input files print a
-// message naming the option or file and exit non-zero.
+// `candela`: one binary, subcommands `render`, `view`, `converge`, `compare` and `bench`. Bad command lines and bad
+// input files print a message naming the option or file and exit non-zero.
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
+#include <set>
 
 #include "apps/bench.h"
+#include "apps/converge.h"
 #include "apps/renderer.h"
 #include "apps/scene_source.h"
+#include "apps/sequence.h"
+#include "apps/shot_script.h"
+#include "apps/settings_names.h"
 #include "apps/stats_json.h"
 #include "apps/viewer/viewer.h"
 #include "engine/check.h"
@@ -23,7 +29,10 @@ struct RenderOptions {
   std::string scene;
   std::string out;
   std::string stats;
-  int frames = 1;
+  std::string script;        // --script: a shot script instead of scene and options
+  std::string frames = "1";  // a count, or with --script a range FIRST:LAST
+  std::optional<int> warmup;
+  int stop_after = 0;
   float fps = 30.0f;
   float exposure = 1.0f;
   int threads = 0;
@@ -62,11 +71,11 @@ void add_reuse_options(CLI::App& render, const std::string& prefix, const std::s
   auto name = [&](const char* option) { return "--" + prefix + "-" + option; };
   auto doc = [&](const std::string& text) { return method + ": " + text; };
   render.add_option(name("reuse"), reuse, doc("reuse stages"))
-      ->check(CLI::IsMember({"none", "temporal", "spatial", "both"}))->capture_default_str();
+      ->check(CLI::IsMember(di_reuse_names()))->capture_default_str();
   render.add_option(name("bias"), bias,
                     doc("bias correction of reuse: none (1/M), basic (generalized balance heuristic, k^2 target "
                         "evaluations) or pairwise (pairwise MIS, k evaluations)"))
-      ->check(CLI::IsMember({"none", "basic", "pairwise"}))->capture_default_str();
+      ->check(CLI::IsMember(keys_of(di_bias_names())))->capture_default_str();
   render.add_option(name("neighbours"), p.spatial_neighbours, doc("spatial neighbours per pass"))
       ->check(CLI::Range(0, 31))->capture_default_str();
   render.add_option(name("radius"), p.spatial_radius, doc("spatial reuse radius in pixels"))
@@ -90,29 +99,15 @@ void add_reuse_options(CLI::App& render, const std::string& prefix, const std::s
       ->check(CLI::Range(0.0f, 1000.0f))->capture_default_str();
 }
 
-// Applies the --PREFIX-reuse and --PREFIX-bias choices to the parameters.
-void apply_reuse_choices(DiReuseParams& p, const std::string& reuse, const std::string& bias) {
-  p.temporal = reuse == "temporal" || reuse == "both";
-  p.spatial = reuse == "spatial" || reuse == "both";
-  p.bias = bias == "none" ? DiBiasCorrection::None : bias == "basic" ? DiBiasCorrection::Basic : DiBiasCorrection::Pairwise;
-}
-
 // Checks the image size and turns the option strings into RenderSettings.
 void resolve_settings(RenderOptions& o) {
   if (int64_t(o.settings.width) * o.settings.height > (int64_t(1) << 26))
     throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
-  const std::map<std::string, LightSamplerKind> samplers = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
-                                                            {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
-  o.settings.light_sampler = samplers.at(o.light_sampler);
-  o.settings.denoise.kind = o.denoise == "bilateral" ? DenoiserKind::Bilateral
-                            : o.denoise == "svgf"    ? DenoiserKind::Svgf
-                                                     : DenoiserKind::None;
-  apply_reuse_choices(o.settings.di_reuse, o.di_reuse, o.di_bias);
-  apply_reuse_choices(o.settings.gi_reuse, o.gi_reuse, o.gi_bias);
-  o.settings.method = o.method == "direct"      ? Method::Direct
-                      : o.method == "restir-di" ? Method::RestirDi
-                      : o.method == "restir"    ? Method::Restir
-                                                : Method::PathTrace;
+  o.settings.light_sampler = light_sampler_names().at(o.light_sampler);
+  o.settings.denoise.kind = denoiser_names().at(o.denoise);
+  set_reuse(o.di_reuse, o.di_bias, o.settings.di_reuse);
+  set_reuse(o.gi_reuse, o.gi_bias, o.settings.gi_reuse);
+  o.settings.method = method_names().at(o.method);
 }
 
 // Loads the scene argument with the options that shape it (light count, environment).
@@ -129,6 +124,16 @@ Scene load_frame_scene(const RenderOptions& o) {
 // Renders `frames` frames (scene time advances by 1/fps per frame), prints progress and per-frame
 // timings, writes the last frame's image and optionally the stats of every frame.
 int run_render(RenderOptions& o) {
+  if (o.scene.empty()) throw InputError("render: give a SCENE (or --script SHOT.json)");
+  if (o.out.empty()) throw InputError("--out is required");
+  int frames = 0;
+  try {
+    size_t used = 0;
+    frames = std::stoi(o.frames, &used);
+    if (used != o.frames.size() || frames < 1) throw std::invalid_argument(o.frames);
+  } catch (const std::logic_error&) {
+    throw InputError("--frames " + o.frames + ": expected a positive number of frames (FIRST:LAST needs --script)");
+  }
   check_output_path(o.out, {".exr", ".png"}, "--out");
   if (o.aov != "none" && o.method.rfind("restir", 0) != 0) throw InputError("--aov " + o.aov + ": needs --method restir-di or restir");
   if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
@@ -143,15 +148,15 @@ int run_render(RenderOptions& o) {
                  triangles, renderer.lights().size(), renderer.lights().triangle_count(), setup_ms);
   std::vector<FrameStats> all;
   CameraDesc camera = renderer.scene().default_camera();
-  for (int f = 0; f < o.frames; ++f) {
+  for (int f = 0; f < frames; ++f) {
     auto progress = [&](int done, int total) {
       if (o.quiet || (total > 0 && total <= 4)) return;
-      if (total > 0) std::fprintf(stderr, "\r  frame %d/%d: %d/%d spp", f + 1, o.frames, done, total);
-      else std::fprintf(stderr, "\r  frame %d/%d: %d spp", f + 1, o.frames, done);
+      if (total > 0) std::fprintf(stderr, "\r  frame %d/%d: %d/%d spp", f + 1, frames, done, total);
+      else std::fprintf(stderr, "\r  frame %d/%d: %d spp", f + 1, frames, done);
     };
     FrameStats stats = renderer.render_frame(f, float(f) / o.fps, camera, progress);
     if (!o.quiet) {
-      std::fprintf(stderr, "\rframe %d/%d: %d spp, %.1f ms, %.2f Mrays/s |", f + 1, o.frames, stats.spp, stats.total_ms,
+      std::fprintf(stderr, "\rframe %d/%d: %d spp, %.1f ms, %.2f Mrays/s |", f + 1, frames, stats.spp, stats.total_ms,
                    stats.rays() / (stats.total_ms * 1e3));
       for (const StageStats& s : stats.stages) std::fprintf(stderr, " %s %.1f ms", s.name.c_str(), s.ms);
       std::fprintf(stderr, "\n");
@@ -171,6 +176,7 @@ int run_render(RenderOptions& o) {
 
 // The interactive viewer (or its headless run): the same scene and settings as `render`, shown live.
 int run_view(RenderOptions& o, ViewerOptions& v) {
+  if (o.scene.empty()) throw InputError("view: give a SCENE (builtin:NAME or a .gltf/.glb file)");
   if (!v.screenshot.empty()) check_output_path(v.screenshot, {".png"}, "--screenshot");
   if (v.headless && v.frames == 0) throw InputError("--headless needs --frames N");
   bool reservoir_view = v.view == DisplayView::ReservoirM || v.view == DisplayView::ReservoirW;
@@ -188,7 +194,7 @@ int run_view(RenderOptions& o, ViewerOptions& v) {
 // Options `render` and `view` share: the scene, the image size (view: the window's) and everything the
 // Renderer is set up with.
 void add_frame_options(CLI::App* cmd, RenderOptions& r) {
-  cmd->add_option("scene", r.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
+  cmd->add_option("scene", r.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file (render: not with --script)");
   cmd->add_option("--width", r.settings.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", r.settings.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--spp", r.settings.spp, "Samples per pixel per frame")->check(CLI::Range(1, 1 << 20))->capture_default_str();
@@ -201,7 +207,7 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
                   "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF sample "
                   "combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling), restir "
                   "(restir-di plus ReSTIR GI for indirect light, paths up to --max-depth)")
-      ->check(CLI::IsMember({"pt", "direct", "restir-di", "restir"}))->capture_default_str();
+      ->check(CLI::IsMember(keys_of(method_names())))->capture_default_str();
   cmd->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   cmd->add_option("--di-bsdf-candidates", r.settings.di.bsdf_candidates,
@@ -228,9 +234,9 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
   cmd->add_option("--denoise", r.denoise,
                      "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
                      "(spatiotemporal variance-guided filtering); both demodulate by albedo")
-      ->check(CLI::IsMember({"none", "bilateral", "svgf"}))->capture_default_str();
+      ->check(CLI::IsMember(keys_of(denoiser_names())))->capture_default_str();
   cmd->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
-      ->check(CLI::IsMember({"uniform", "power", "tree", "exhaustive"}))->capture_default_str();
+      ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();
   cmd->add_option("--time-budget-ms", r.settings.time_budget_ms,
                      "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds (overrides --spp)")
       ->check(CLI::Range(0.0, 1e9));
@@ -250,6 +256,22 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
   cmd->add_flag("--quiet,-q", r.quiet, "No progress output");
 }
 
+// `render --script`: the script holds scene and settings; only the run's own options may be given.
+int run_script(const CLI::App& render, const RenderOptions& o) {
+  for (const CLI::Option* opt : render.get_options()) {
+    static const std::set<std::string> allowed = {"--script", "--frames", "--warmup", "--stop-after", "--threads", "--quiet", "--help"};
+    if (opt->count() > 0 && !allowed.count(opt->get_name()) && !opt->get_name().empty())
+      throw InputError(opt->get_name() + ": not allowed with --script (set it in " + o.script + ")");
+  }
+  ShotScript script = read_shot_script(o.script);
+  SequenceOptions options;
+  if (render.get_option("--frames")->count() > 0) options.range = parse_frame_range(o.frames, script);
+  options.warmup = o.warmup;
+  options.stop_after = o.stop_after;
+  options.quiet = o.quiet;
+  return run_sequence(script, options);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -259,9 +281,17 @@ int main(int argc, char** argv) {
   RenderOptions r;
   CLI::App* render = app.add_subcommand("render", "Render a scene to an image file");
   add_frame_options(render, r);
-  render->add_option("--out,-o", r.out, "Output image: .exr (linear radiance) or .png (tonemapped sRGB)")->required();
-  render->add_option("--frames", r.frames, "Frames to render; a still scene and camera accumulate across frames")
-      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  render->add_option("--out,-o", r.out, "Output image: .exr (linear radiance) or .png (tonemapped sRGB) (not with --script)");
+  render->add_option("--frames", r.frames,
+                     "Frames to render; a still scene and camera accumulate across frames. With --script: the frames "
+                     "FIRST:LAST (inclusive) of the script to render (a shard)")
+      ->capture_default_str();
+  render->add_option("--script", r.script, "Render the frame sequence a shot script describes (JSON; see README)");
+  render->add_option("--warmup", r.warmup,
+                     "--script: frames rendered but not written before the first frame to render, so temporal history is "
+                     "warm (default: the script's \"warmup\"; unused with history_reset_every)")
+      ->check(CLI::Range(0, 100000));
+  render->add_option("--stop-after", r.stop_after, "--script: stop after writing this many frames")->check(CLI::Range(0, 1 << 30));
   render->add_option("--aov", r.aov,
                      "Write a debug view instead of radiance: reservoir-m (confidence M), reservoir-w (contribution "
                      "weight W), reservoir-light (chosen light, hashed colour); restir-di only")
@@ -293,6 +323,46 @@ int main(int argc, char** argv) {
   compare->add_option("image", compare_image, "Image to measure (.exr)")->required()->check(CLI::ExistingFile);
   compare->add_option("reference", compare_reference, "Reference image (.exr), e.g. a converged render")->required()->check(CLI::ExistingFile);
 
+  ConvergeOptions c;
+  c.base.width = 160;
+  c.base.height = 90;
+  c.base.light_sampler = LightSamplerKind::Tree;
+  c.base.jitter = false;
+  c.methods = {"direct-uniform", "direct-power", "direct-tree", "restir-di-none", "restir-di-basic", "restir-di-pairwise", "pt"};
+  std::string converge_light_sampler = "tree";
+  CLI::App* converge = app.add_subcommand("converge", "Error against samples and time of each method: CSV and a log-log plot");
+  converge->add_option("scene", c.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
+  converge->add_option("--csv", c.csv, "Output CSV: method, samples, time_ms, mse, rel_mse, mean_difference, standard_error")
+      ->required();
+  converge->add_option("--plot", c.plot, "Output PNG: relMSE against time, log-log, one line per method (needs gnuplot)");
+  converge->add_option("--methods", c.methods, "Methods to run (direct-uniform, direct-power, direct-tree, restir-di-none, "
+                                               "restir-di-basic, restir-di-pairwise, pt)")
+      ->delimiter(',')->capture_default_str();
+  converge->add_option("--reference", c.reference, "Converged full-transport EXR for pt (default: rendered)")->check(CLI::ExistingFile);
+  converge->add_option("--reference-direct", c.reference_direct,
+                       "Converged direct-light EXR for direct-* and restir-di-* (default: rendered with --method direct)")
+      ->check(CLI::ExistingFile);
+  converge->add_option("--reference-spp", c.reference_spp, "Samples per pixel of rendered references")
+      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  converge->add_option("--max-spp", c.max_spp, "Largest sample count; counts are 1, 2, 4, ... up to it")
+      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  converge->add_option("--max-seconds", c.max_seconds, "Stop a method after the count at which it passed this time (0 = off)")
+      ->check(CLI::Range(0.0, 1e9))->capture_default_str();
+  converge->add_option("--width", c.base.width, "Image width")->check(CLI::Range(1, 16384))->capture_default_str();
+  converge->add_option("--height", c.base.height, "Image height")->check(CLI::Range(1, 16384))->capture_default_str();
+  converge->add_option("--seed", c.base.seed, "Random seed of the methods (references use seed + 7919)")->capture_default_str();
+  converge->add_option("--max-depth", c.base.max_depth, "Path tracer bounces (pt and its reference)")
+      ->check(CLI::Range(1, 1024))->capture_default_str();
+  converge->add_option("--light-sampler", converge_light_sampler, "Light sampler of pt, restir-di-* candidates and references")
+      ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();
+  converge->add_option("--lights", c.lights, "builtin:manylights: number of ceiling lights")->check(CLI::Range(1, 4000000))->capture_default_str();
+  converge->add_option("--environment", c.environment, "Uniform background radiance; default: the scene's own")->check(CLI::Range(0.0f, 1e6f));
+  converge->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024));
+  converge->add_flag("--jitter", c.base.jitter,
+                     "Jitter primary rays (adds pixel-coverage noise of edges and small emitters to every method; "
+                     "default: pixel centres, which isolates the light transport estimators)");
+  converge->add_flag("--quiet,-q", c.quiet, "No progress output");
+
   BenchOptions b;
   CLI::App* bench = app.add_subcommand("bench", "Ray throughput benchmarks (Google Benchmark)");
   add_bench_options(*bench, b);
@@ -302,12 +372,16 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  int threads = render->parsed() ? r.threads : view->parsed() ? view_frame.threads : b.threads;
+  int threads = render->parsed() || converge->parsed() ? r.threads : view->parsed() ? view_frame.threads : b.threads;
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
-    if (render->parsed()) return run_render(r);
+    if (render->parsed()) return r.script.empty() ? run_render(r) : run_script(*render, r);
     if (view->parsed()) return run_view(view_frame, viewer);
+    if (converge->parsed()) {
+      c.base.light_sampler = light_sampler_names().at(converge_light_sampler);
+      return run_converge(c);
+    }
     if (compare->parsed()) {
       ImageError e = compare_images(read_image(compare_image), read_image(compare_reference));
       std::printf("mse %.6e rel_mse %.6e mean_difference %+.6e standard_error %.6e\n", e.mse, e.rel_mse, e.mean_difference,

@@ -19,7 +19,7 @@ Renderer::Renderer(Scene scene, const RenderSettings& settings)
       settings_(settings),
       tracer_(std::make_unique<Tracer>(scene_)),
       lights_(scene_),
-      prev_lights_(scene_.motions.empty() ? LightList() : lights_),
+      prev_lights_(scene_.animated() ? lights_ : LightList()),
       sampler_(make_light_sampler(settings.light_sampler, lights_)),
       denoiser_(settings.denoise) {
   CHECK(settings.width > 0 && settings.height > 0 && settings.spp > 0);
@@ -30,22 +30,36 @@ static bool same_camera(const CameraDesc& a, const CameraDesc& b) {
   return a.position == b.position && a.target == b.target && a.up == b.up && a.vfov_degrees == b.vfov_degrees;
 }
 
-// Stage "scene_update": moves animated instances, re-commits the instance BVH, re-places moving lights,
-// rotates camera history and decides whether accumulation continues. Cost: O(animated instances + their lights).
+// Stage "scene_update": moves animated instances, re-commits the instance BVH, re-places moving lights
+// (or, with animated light powers, rebuilds the light list and sampler), rotates camera history and
+// decides whether accumulation continues. Cost: O(animated instances + their lights); with power
+// animations a full LightList build (emission integration) and sampler build every frame.
 void Renderer::update_scene(float time, const CameraDesc& camera, FrameStats& stats) {
   StageTimer timer(stats, "scene_update");
   bool moved = false;
-  if (!scene_.motions.empty() && (time != scene_.time || !has_frame_)) {
+  if (scene_.animated() && (time != scene_.time || !has_frame_)) {
     scene_.set_time(time);
+    // The first frame has no last frame: zero motion, like the camera's.
+    if (!has_frame_)
+      for (Instance& inst : scene_.instances) inst.prev_transform = inst.transform;
     tracer_->update_instances(scene_);
-    // Last frame's light placement stays in prev_lights_ (temporal reuse judges history with it); the
-    // buffer swapped in is re-placed, which rewrites every light of an animated instance.
+    // Last frame's lights stay in prev_lights_ (temporal reuse judges history with them).
     if (has_frame_) std::swap(lights_, prev_lights_);
-    lights_.update(scene_);
-    // Rigid motion keeps every light's power, so the power table stays valid; the tree and the
-    // exhaustive sampler hold light positions and are refitted / rebuilt.
-    if (auto* tree = std::get_if<LightTreeSampler>(&sampler_)) tree->refit(lights_);
-    if (std::holds_alternative<ExhaustiveLightSampler>(sampler_)) sampler_ = ExhaustiveLightSampler(lights_);
+    if (!scene_.power_animations.empty()) {
+      // Powers changed: emission averages, the power table and the tree's bounds all depend on them.
+      // Rebuilt every frame, so a frame's lights depend only on its time (shards match single runs).
+      lights_ = LightList(scene_);
+      sampler_ = make_light_sampler(settings_.light_sampler, lights_);
+      // An emitter scaled under the emission threshold leaves the list: light indices in history are void.
+      if (lights_.size() != prev_lights_.size()) di_.history.clear();
+    } else {
+      // The buffer swapped in is re-placed, which rewrites every light of an animated instance.
+      lights_.update(scene_);
+      // Rigid motion keeps every light's power, so the power table stays valid; the tree and the
+      // exhaustive sampler hold light positions and are refitted / rebuilt.
+      if (auto* tree = std::get_if<LightTreeSampler>(&sampler_)) tree->refit(lights_);
+      if (std::holds_alternative<ExhaustiveLightSampler>(sampler_)) sampler_ = ExhaustiveLightSampler(lights_);
+    }
     moved = true;
     lights_moved_ = has_frame_;
   } else if (has_frame_) {
@@ -193,6 +207,15 @@ void Renderer::reuse_and_shade(const SceneView& view, const std::string& prefix,
     di_shade(view, gbuffer_, *result, unsampled, visibility, chain.visibility, sum_, timer.rays());
   }
   chain.history = *result;
+}
+
+void Renderer::reset_history() {
+  has_frame_ = false;
+  di_.history.clear();
+  gi_.history.clear();
+  std::fill(sum_.pixels.begin(), sum_.pixels.end(), vec3(0.0f));
+  accumulated_spp_ = 0;
+  denoiser_.reset();
 }
 
 Image Renderer::image() const {

@@ -77,6 +77,9 @@ class Renderer {
   // with a time budget).
   FrameStats render_frame(int frame_index, float time, const CameraDesc& camera,
                           const std::function<void(int, int)>& progress = {});
+  // Forgets every frame before the next one, as if the renderer were new: no temporal reuse, no
+  // denoiser history, no accumulation, zero motion on the next frame's camera.
+  void reset_history();
   // The displayed image: accumulated radiance divided by the samples accumulated so far, denoised when
   // a denoiser is set.
   Image image() const;

@@ -164,7 +164,6 @@ void check_required_extensions(const Context& ctx) {
     ctx.warn("requires extension " + name + ", which is ignored");
   }
   if (!ctx.model.skins.empty()) ctx.warn("skins are ignored (meshes are loaded in their bind pose)");
-  if (!ctx.model.animations.empty()) ctx.warn("animations are ignored (the static pose is loaded)");
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -781,6 +780,7 @@ mat4 local_matrix(const Context& ctx, const tinygltf::Node& node, const std::str
 struct PlacedNode {
   int node = 0;
   mat4 world{1.0f};
+  mat4 parent_world{1.0f};
 };
 
 // The scene's root nodes: those of the default scene or, when the file names none, every node that is
@@ -820,6 +820,7 @@ std::vector<PlacedNode> place_nodes(const Context& ctx) {
     if (visited[size_t(top.node)]) ctx.fail(where + ": reached twice in the hierarchy (cycle or shared child)");
     visited[size_t(top.node)] = true;
     const tinygltf::Node& node = m.nodes[size_t(top.node)];
+    top.parent_world = top.world;
     top.world = top.world * local_matrix(ctx, node, where);
     placed.push_back(top);
     for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, top.world});
@@ -903,7 +904,9 @@ std::optional<CameraDesc> node_camera(const Context& ctx, const PlacedNode& plac
 // The whole conversion.
 
 // Reads the placed nodes and writes meshes (once per glTF mesh/primitive), instances, lights and camera.
-void convert_nodes(const Context& ctx, Scene& scene) {
+// Returns, per glTF node, the instances it carries (one per primitive), for animations.
+std::vector<std::vector<int>> convert_nodes(const Context& ctx, const std::vector<PlacedNode>& placed_nodes, Scene& scene) {
+  std::vector<std::vector<int>> instances_of(ctx.model.nodes.size());
   std::map<std::pair<int, int>, int> mesh_of;  // (glTF mesh, primitive) -> candela mesh, -1 = skipped
   int default_material = -1;
   auto get_default_material = [&]() {
@@ -916,7 +919,7 @@ void convert_nodes(const Context& ctx, Scene& scene) {
     return default_material;
   };
 
-  for (const PlacedNode& placed : place_nodes(ctx)) {
+  for (const PlacedNode& placed : placed_nodes) {
     const tinygltf::Node& node = ctx.model.nodes[size_t(placed.node)];
     const std::string where = "node " + std::to_string(placed.node) + quoted_name(node.name);
     if (node.mesh >= 0) {
@@ -939,11 +942,125 @@ void convert_nodes(const Context& ctx, Scene& scene) {
         inst.mesh = it->second;
         inst.transform = inst.prev_transform = placed.world;
         inst.animated = false;
+        inst.name = node.name;
+        instances_of[size_t(placed.node)].push_back(int(scene.instances.size()));
         scene.instances.push_back(inst);
       }
     }
     if (std::optional<PunctualLight> light = node_light(ctx, placed, where)) scene.punctual_lights.push_back(*light);
     if (!scene.camera) scene.camera = node_camera(ctx, placed, where);
+  }
+  return instances_of;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Animations: translation, rotation and scale channels of nodes that carry meshes.
+
+// One sampler's keys: times (strictly increasing, finite) and `components` values per key. CUBICSPLINE
+// keeps each key's value (the middle of its in-tangent, value, out-tangent triple), interpolated linearly.
+template <class T>
+Track<T> read_channel_track(const Context& ctx, const tinygltf::Animation& anim, const tinygltf::AnimationChannel& ch,
+                            int type, const std::string& where) {
+  check_index(ctx, ch.sampler, anim.samplers.size(), "sampler", where);
+  const tinygltf::AnimationSampler& sampler = anim.samplers[size_t(ch.sampler)];
+  AccessorValues times = read_accessor(ctx, sampler.input, TINYGLTF_TYPE_SCALAR, where + " input");
+  AccessorValues values = read_accessor(ctx, sampler.output, type, where + " output");
+  Track<T> track;
+  size_t per_key = 1, offset = 0;
+  if (sampler.interpolation == "STEP") {
+    track.interpolation = Interpolation::Step;
+  } else if (sampler.interpolation == "CUBICSPLINE") {
+    ctx.warn(where + ": CUBICSPLINE interpolation is read as LINEAR through the keys' values (tangents ignored)");
+    per_key = 3;
+    offset = 1;
+  } else if (sampler.interpolation != "LINEAR" && !sampler.interpolation.empty()) {
+    ctx.fail(where + ": unknown interpolation '" + sampler.interpolation + "'");
+  }
+  if (times.count == 0) ctx.fail(where + ": input accessor has no keys");
+  if (values.count != times.count * per_key)
+    ctx.fail(where + ": output has " + std::to_string(values.count) + " values for " + std::to_string(times.count) +
+             " keys (expected " + std::to_string(times.count * per_key) + ")");
+  for (size_t i = 0; i < times.count; ++i) {
+    double t = times.values[i];
+    if (!std::isfinite(t) || (i > 0 && t <= times.values[i - 1]))
+      ctx.fail(where + ": key time " + format_number(t) + " (key " + std::to_string(i) + ") is not finite and increasing");
+    const double* v = &values.values[(i * per_key + offset) * size_t(values.components)];
+    for (int c = 0; c < values.components; ++c)
+      if (!std::isfinite(v[c])) ctx.fail(where + ": key " + std::to_string(i) + " has a NaN or infinite value");
+    track.times.push_back(float(t));
+    if constexpr (std::is_same_v<T, quat>) {
+      quat q{float(v[3]), float(v[0]), float(v[1]), float(v[2])};  // glTF x, y, z, w -> glm w, x, y, z
+      if (glm::length(q) == 0.0f) ctx.fail(where + ": key " + std::to_string(i) + " is a zero quaternion");
+      track.values.push_back(glm::normalize(q));
+    } else {
+      track.values.push_back(vec3(float(v[0]), float(v[1]), float(v[2])));
+    }
+  }
+  return track;
+}
+
+// Reads every animation's node channels into Scene::instance_animations (all animations play at once,
+// from time 0 in seconds). A node's instance moves as parent_world * T(t) * R(t) * S(t), unanimated
+// channels keeping the node's own values. Nodes without meshes, nodes with a `matrix`, nodes below an
+// animated node, morph weights and lights or cameras on animated nodes are reported and left static.
+void convert_animations(const Context& ctx, const std::vector<PlacedNode>& placed_nodes,
+                        const std::vector<std::vector<int>>& instances_of, Scene& scene) {
+  const tinygltf::Model& m = ctx.model;
+  if (m.animations.empty()) return;
+  std::map<int, InstanceAnimation> by_node;
+  for (size_t a = 0; a < m.animations.size(); ++a) {
+    const tinygltf::Animation& anim = m.animations[a];
+    for (size_t c = 0; c < anim.channels.size(); ++c) {
+      const tinygltf::AnimationChannel& ch = anim.channels[c];
+      const std::string where = "animation " + std::to_string(a) + quoted_name(anim.name) + " channel " + std::to_string(c);
+      if (ch.target_node < 0) continue;  // the spec allows targets defined by extensions only
+      check_index(ctx, ch.target_node, m.nodes.size(), "node", where);
+      const tinygltf::Node& node = m.nodes[size_t(ch.target_node)];
+      const std::string node_where = where + " (node " + std::to_string(ch.target_node) + quoted_name(node.name) + ")";
+      if (ch.target_path == "weights") { ctx.warn(node_where + ": morph target weights are ignored"); continue; }
+      if (!node.matrix.empty()) { ctx.fail(node_where + ": animates a node that has a matrix (glTF forbids this)"); }
+      InstanceAnimation& anim_of_node = by_node[ch.target_node];
+      if (ch.target_path == "translation") anim_of_node.translation = read_channel_track<vec3>(ctx, anim, ch, TINYGLTF_TYPE_VEC3, node_where);
+      else if (ch.target_path == "rotation") anim_of_node.rotation = read_channel_track<quat>(ctx, anim, ch, TINYGLTF_TYPE_VEC4, node_where);
+      else if (ch.target_path == "scale") anim_of_node.scale = read_channel_track<vec3>(ctx, anim, ch, TINYGLTF_TYPE_VEC3, node_where);
+      else ctx.fail(node_where + ": unknown target path '" + ch.target_path + "'");
+    }
+  }
+  std::vector<int> parent(m.nodes.size(), -1);
+  for (size_t i = 0; i < m.nodes.size(); ++i)
+    for (int child : m.nodes[i].children) parent[size_t(child)] = int(i);
+  auto constant = [](auto value) {
+    Track<decltype(value)> t;
+    t.times = {0.0f};
+    t.values = {value};
+    return t;
+  };
+  for (const PlacedNode& placed : placed_nodes) {
+    const tinygltf::Node& node = m.nodes[size_t(placed.node)];
+    const std::string where = "node " + std::to_string(placed.node) + quoted_name(node.name);
+    for (int up = parent[size_t(placed.node)]; up >= 0; up = parent[size_t(up)])
+      if (by_node.count(up) && !instances_of[size_t(placed.node)].empty()) {
+        ctx.warn(where + ": only its ancestor node " + std::to_string(up) + " is animated; it stays in its static pose");
+        break;
+      }
+    auto it = by_node.find(placed.node);
+    if (it == by_node.end()) continue;
+    if (instances_of[size_t(placed.node)].empty()) { ctx.warn(where + ": animated but carries no mesh; ignored"); continue; }
+    if (node.camera >= 0 || node.extensions.count("KHR_lights_punctual"))
+      ctx.warn(where + ": its light or camera does not follow the animation");
+    InstanceAnimation a = it->second;
+    a.after = placed.parent_world;
+    if (a.translation.empty() && !node.translation.empty())
+      a.translation = constant(vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2])));
+    if (a.rotation.empty() && !node.rotation.empty())
+      a.rotation = constant(glm::normalize(quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2]))));
+    if (a.scale.empty() && !node.scale.empty())
+      a.scale = constant(vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
+    for (int instance : instances_of[size_t(placed.node)]) {
+      a.instance = instance;
+      scene.instances[size_t(instance)].animated = true;
+      scene.instance_animations.push_back(a);
+    }
   }
 }
 
@@ -965,7 +1082,8 @@ Scene convert(const std::string& path, LoadReport& report) {
   // Textures first (materials refer to them), then materials, then the node hierarchy.
   TextureTable table = convert_textures(ctx, scene);
   for (size_t i = 0; i < model.materials.size(); ++i) scene.materials.push_back(convert_material(ctx, table, i));
-  convert_nodes(ctx, scene);
+  const std::vector<PlacedNode> placed = place_nodes(ctx);
+  convert_animations(ctx, placed, convert_nodes(ctx, placed, scene), scene);
   if (scene.instances.empty()) ctx.warn("the scene has no triangle mesh");
   return scene;
 }

@@ -15,7 +15,13 @@
 // - The camera is the first perspective one met depth-first; its up vector is the node's +Y axis.
 // - Out-of-range material factors are clamped with a warning; emissiveFactor above 1 is kept silently.
 // - Degenerate triangles (a repeated index or exactly zero area) are dropped and counted once per mesh.
-// - Skins, morph targets and animations are ignored (the static pose is loaded) with a warning.
+// - Skins and morph targets are ignored (the static pose is loaded) with a warning.
+// - Animations: every animation's translation/rotation/scale channels play at once (time in seconds) on
+//   the instances of the nodes they target (Scene::instance_animations), LINEAR (rotations by slerp) and
+//   STEP; CUBICSPLINE is read as LINEAR through its key values with a warning. Animated nodes without a
+//   mesh, nodes moved only by an animated ancestor, and lights/cameras on animated nodes stay static
+//   (with a warning).
+// - Instances carry their node's name (Instance::name).
 #include <cstddef>
 #include <string>
 #include <vector>

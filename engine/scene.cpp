@@ -37,6 +37,12 @@ void Scene::set_time(float t) {
     if (speed > 0.0f) offset = m.velocity / speed * std::fmod(speed * t + m.phase, m.wrap_distance);
     instances[m.instance].transform = glm::translate(mat4(1.0f), offset) * m.start;
   }
+  for (const InstanceAnimation& a : instance_animations) instances[a.instance].transform = a.transform_at(t);
+  for (const PowerAnimation& a : power_animations) {
+    vec3 value = a.base * a.scale.at(t);
+    if (a.target == PowerAnimation::Target::Punctual) punctual_lights[a.index].intensity = value;
+    else materials[a.index].emission = value;
+  }
   time = t;
 }
 

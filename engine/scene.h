@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/animation.h"
 #include "engine/math.h"
 #include "engine/texture.h"
 
@@ -48,6 +49,7 @@ struct Instance {
   mat4 transform{1.0f};
   mat4 prev_transform{1.0f};  // last frame's transform, for motion vectors
   bool animated = false;      // its transform may change between frames
+  std::string name;           // glTF node name (may be empty)
 };
 
 enum class PunctualType : uint8_t { Point, Spot, Directional };
@@ -86,6 +88,8 @@ struct Scene {
   std::vector<Instance> instances;
   std::vector<PunctualLight> punctual_lights;
   std::vector<InstanceMotion> motions;
+  std::vector<InstanceAnimation> instance_animations;  // keyframed (glTF animations, shot scripts)
+  std::vector<PowerAnimation> power_animations;        // light power over time
   std::optional<CameraDesc> camera;
   vec3 environment{0.0f};  // uniform radiance of the background
   float time = 0.0f;
@@ -94,7 +98,10 @@ struct Scene {
   size_t triangle_count() const;  // over instances
   const Material& material_of(uint32_t instance) const { return materials[meshes[instances[instance].mesh].material]; }
   // Moves animated instances to time t (seconds); their previous transform becomes prev_transform.
+  // Then scales animated light powers (punctual intensities, material emission).
   void set_time(float t);
+  // Anything changes with time (motions, keyframed instances or light powers).
+  bool animated() const { return !motions.empty() || !instance_animations.empty() || !power_animations.empty(); }
   // Camera to use: the scene's own, or one framing the scene bounds.
   CameraDesc default_camera() const;
 };

@@ -1,0 +1,182 @@
+#include "apps/converge.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "apps/plot.h"
+#include "apps/scene_source.h"
+#include "apps/settings_names.h"
+#include "engine/check.h"
+
+namespace candela {
+
+const std::vector<ConvergeMethod>& converge_methods() {
+  static const std::vector<ConvergeMethod> methods = [] {
+    std::vector<ConvergeMethod> m;
+    for (const char* sampler : {"uniform", "power", "tree"})
+      m.push_back({std::string("direct-") + sampler, Transport::Direct, [kind = light_sampler_names().at(sampler)](RenderSettings& s) {
+                     s.method = Method::Direct;
+                     s.light_sampler = kind;
+                   }});
+    for (const char* bias : {"none", "basic", "pairwise"})
+      m.push_back({std::string("restir-di-") + bias, Transport::Direct, [mode = di_bias_names().at(bias)](RenderSettings& s) {
+                     s.method = Method::RestirDi;
+                     s.di_reuse.temporal = s.di_reuse.spatial = true;
+                     s.di_reuse.bias = mode;
+                   }});
+    m.push_back({"pt", Transport::Full, [](RenderSettings& s) { s.method = Method::PathTrace; }});
+    return m;
+  }();
+  return methods;
+}
+
+const ConvergeMethod& converge_method_named(const std::string& name) {
+  std::string names;
+  for (const ConvergeMethod& m : converge_methods()) {
+    if (m.name == name) return m;
+    names += (names.empty() ? "" : ", ") + m.name;
+  }
+  throw InputError("--methods: unknown method '" + name + "' (known: " + names + ")");
+}
+
+std::vector<ConvergePoint> run_convergence(const Scene& scene, const ConvergeMethod& method, const RenderSettings& base,
+                                           const std::vector<int>& counts, const Image& reference, double max_seconds) {
+  RenderSettings settings = base;
+  settings.spp = 1;
+  settings.accumulate = true;
+  settings.time_budget_ms = 0.0;
+  method.configure(settings);
+  Renderer renderer(scene, settings);
+  const CameraDesc camera = scene.default_camera();
+  std::vector<ConvergePoint> points;
+  double time_ms = 0.0;
+  int frames = 0;
+  for (int count : counts) {
+    while (frames < count) time_ms += renderer.render_frame(frames++, 0.0f, camera).total_ms;
+    points.push_back({method.name, count, time_ms, compare_images(renderer.image(), reference)});
+    if (max_seconds > 0.0 && time_ms > 1e3 * max_seconds) break;
+  }
+  return points;
+}
+
+Image render_reference(const Scene& scene, Transport transport, const RenderSettings& base, int spp, uint64_t seed) {
+  RenderSettings settings = base;
+  settings.method = transport == Transport::Direct ? Method::Direct : Method::PathTrace;
+  settings.spp = spp;
+  settings.seed = seed;
+  settings.time_budget_ms = 0.0;
+  Renderer renderer(scene, settings);
+  renderer.render_frame(0, 0.0f, scene.default_camera());
+  return renderer.image();
+}
+
+double mse_slope(const std::vector<ConvergePoint>& points, int lo, int hi) {
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (const ConvergePoint& p : points) {
+    if (p.samples < lo || p.samples > hi) continue;
+    double x = std::log(double(p.samples)), y = std::log(p.error.mse);
+    n += 1; sx += x; sy += y; sxx += x * x; sxy += x * y;
+  }
+  CHECK(n >= 2);
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+namespace {
+
+// Stage "references": the given EXR (checked for size) or a rendered one, per transport the methods need.
+// Cost: reference_spp samples per pixel (Full: whole paths) unless given.
+Image reference_for(const ConvergeOptions& o, const Scene& scene, Transport transport) {
+  const std::string& given = transport == Transport::Direct ? o.reference_direct : o.reference;
+  if (!given.empty()) {
+    Image image = read_image(given);
+    if (image.width != o.base.width || image.height != o.base.height)
+      throw InputError(given + ": reference is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                       ", the study renders " + std::to_string(o.base.width) + "x" + std::to_string(o.base.height));
+    return image;
+  }
+  auto start = std::chrono::steady_clock::now();
+  Image image = render_reference(scene, transport, o.base, o.reference_spp, o.base.seed + 7919);
+  if (!o.quiet)
+    std::fprintf(stderr, "reference (%s, %d spp): %.1f s\n", transport == Transport::Direct ? "direct" : "path traced",
+                 o.reference_spp, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return image;
+}
+
+void write_csv(const std::string& path, const std::vector<ConvergePoint>& points) {
+  std::filesystem::path target(path), tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  {
+    std::ofstream f(tmp);
+    if (!f) throw InputError(path + ": cannot open for writing");
+    f.precision(8);
+    f << "method,samples,time_ms,mse,rel_mse,mean_difference,standard_error\n";
+    for (const ConvergePoint& p : points)
+      f << p.method << ',' << p.samples << ',' << p.time_ms << ',' << p.error.mse << ',' << p.error.rel_mse << ','
+        << p.error.mean_difference << ',' << p.error.standard_error << '\n';
+    if (!f) throw InputError(path + ": write failed");
+  }
+  std::filesystem::rename(tmp, target);
+}
+
+// relMSE against seconds, one line per method.
+LogLogPlot error_plot(const ConvergeOptions& o, const std::vector<ConvergePoint>& points) {
+  LogLogPlot plot;
+  plot.title = o.scene + ", " + std::to_string(o.base.width) + "x" + std::to_string(o.base.height) + ", error against time";
+  plot.x_label = "render time (s)";
+  plot.y_label = "relMSE";
+  for (const ConvergePoint& p : points) {
+    if (plot.series.empty() || plot.series.back().title != p.method) plot.series.push_back({p.method, {}, {}});
+    if (p.error.rel_mse > 0.0) {
+      plot.series.back().x.push_back(p.time_ms * 1e-3);
+      plot.series.back().y.push_back(p.error.rel_mse);
+    }
+  }
+  return plot;
+}
+
+}  // namespace
+
+int run_converge(const ConvergeOptions& o) {
+  // Everything that can fail on input fails before the first render.
+  std::vector<const ConvergeMethod*> methods;
+  for (const std::string& name : o.methods) methods.push_back(&converge_method_named(name));
+  if (!o.plot.empty() && find_gnuplot().empty())
+    throw InputError("--plot " + o.plot + ": gnuplot is not on PATH (Debian: apt-get install gnuplot-nox)");
+  for (const std::string& path : {o.csv, o.plot}) {
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (!path.empty() && !dir.empty() && !std::filesystem::is_directory(dir, ec))
+      throw InputError(path + ": directory " + dir.string() + " does not exist");
+  }
+  BuiltinOptions builtin;
+  builtin.light_count = o.lights;
+  Scene scene = load_scene(o.scene, builtin);
+  if (o.environment >= 0.0f) scene.environment = vec3(o.environment);
+  else if (o.scene.rfind("builtin:", 0) != 0) scene.environment = vec3(0.3f);
+
+  std::vector<int> counts;
+  for (int n = 1; n <= o.max_spp; n *= 2) counts.push_back(n);
+  std::vector<ConvergePoint> points;
+  for (Transport transport : {Transport::Direct, Transport::Full}) {
+    bool needed = false;
+    for (const ConvergeMethod* m : methods) needed = needed || m->transport == transport;
+    if (!needed) continue;
+    Image reference = reference_for(o, scene, transport);
+    for (const ConvergeMethod* m : methods) {
+      if (m->transport != transport) continue;
+      std::vector<ConvergePoint> run = run_convergence(scene, *m, o.base, counts, reference, o.max_seconds);
+      if (!o.quiet)
+        for (const ConvergePoint& p : run)
+          std::fprintf(stderr, "%-20s %5d spp %9.1f ms  MSE %.3e  relMSE %.3e  bias %+.2e +- %.2e\n", p.method.c_str(), p.samples,
+                       p.time_ms, p.error.mse, p.error.rel_mse, p.error.mean_difference, p.error.standard_error);
+      points.insert(points.end(), run.begin(), run.end());
+    }
+  }
+  write_csv(o.csv, points);
+  if (!o.plot.empty()) draw_log_log_plot(error_plot(o, points), o.plot);
+  if (!o.quiet) std::fprintf(stderr, "wrote %s%s%s\n", o.csv.c_str(), o.plot.empty() ? "" : " and ", o.plot.c_str());
+  return 0;
+}
+
+}  // namespace candela

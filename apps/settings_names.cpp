@@ -1,0 +1,40 @@
+#include "apps/settings_names.h"
+
+namespace candela {
+
+const std::map<std::string, Method>& method_names() {
+  static const std::map<std::string, Method> names = {{"pt", Method::PathTrace}, {"direct", Method::Direct}, {"restir-di", Method::RestirDi},
+                                                      {"restir", Method::Restir}};
+  return names;
+}
+
+const std::map<std::string, LightSamplerKind>& light_sampler_names() {
+  static const std::map<std::string, LightSamplerKind> names = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
+                                                                {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
+  return names;
+}
+
+const std::map<std::string, DenoiserKind>& denoiser_names() {
+  static const std::map<std::string, DenoiserKind> names = {{"none", DenoiserKind::None}, {"bilateral", DenoiserKind::Bilateral},
+                                                            {"svgf", DenoiserKind::Svgf}};
+  return names;
+}
+
+const std::map<std::string, DiBiasCorrection>& di_bias_names() {
+  static const std::map<std::string, DiBiasCorrection> names = {{"none", DiBiasCorrection::None}, {"basic", DiBiasCorrection::Basic},
+                                                                {"pairwise", DiBiasCorrection::Pairwise}};
+  return names;
+}
+
+const std::vector<std::string>& di_reuse_names() {
+  static const std::vector<std::string> names = {"none", "temporal", "spatial", "both"};
+  return names;
+}
+
+void set_reuse(const std::string& reuse, const std::string& bias, DiReuseParams& params) {
+  params.temporal = reuse == "temporal" || reuse == "both";
+  params.spatial = reuse == "spatial" || reuse == "both";
+  params.bias = di_bias_names().at(bias);
+}
+
+}  // namespace candela
