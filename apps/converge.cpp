@@ -27,6 +27,11 @@ const std::vector<ConvergeMethod>& converge_methods() {
                      s.di_reuse.bias = mode;
                    }});
     m.push_back({"pt", Transport::Full, [](RenderSettings& s) { s.method = Method::PathTrace; }});
+    m.push_back({"restir", Transport::Full, [](RenderSettings& s) {
+                   s.method = Method::Restir;
+                   s.di_reuse.temporal = s.di_reuse.spatial = s.gi_reuse.temporal = s.gi_reuse.spatial = true;
+                   s.di_reuse.bias = s.gi_reuse.bias = DiBiasCorrection::Pairwise;
+                 }});
     return m;
   }();
   return methods;

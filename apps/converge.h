@@ -17,7 +17,7 @@ namespace candela {
 // What a method estimates, so that it is measured against the matching reference.
 enum class Transport { Direct, Full };
 
-// One row of the study. Adding ReSTIR GI is one more entry (Transport::Full) in converge_methods().
+// One row of the study.
 struct ConvergeMethod {
   std::string name;
   Transport transport = Transport::Direct;
@@ -26,7 +26,7 @@ struct ConvergeMethod {
 
 // direct-uniform, direct-power, direct-tree (light sampler + BSDF sample, MIS), restir-di-none,
 // restir-di-basic, restir-di-pairwise (temporal and spatial reuse, candidates from the base light
-// sampler), pt (path tracer, base light sampler).
+// sampler), pt (path tracer, base light sampler), restir (ReSTIR DI + GI, pairwise, paths of max_depth).
 const std::vector<ConvergeMethod>& converge_methods();
 const ConvergeMethod& converge_method_named(const std::string& name);  // throws InputError listing the names
 

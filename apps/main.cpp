@@ -328,7 +328,7 @@ int main(int argc, char** argv) {
   c.base.height = 90;
   c.base.light_sampler = LightSamplerKind::Tree;
   c.base.jitter = false;
-  c.methods = {"direct-uniform", "direct-power", "direct-tree", "restir-di-none", "restir-di-basic", "restir-di-pairwise", "pt"};
+  c.methods = {"direct-uniform", "direct-power", "direct-tree", "restir-di-none", "restir-di-basic", "restir-di-pairwise", "pt", "restir"};
   std::string converge_light_sampler = "tree";
   CLI::App* converge = app.add_subcommand("converge", "Error against samples and time of each method: CSV and a log-log plot");
   converge->add_option("scene", c.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
@@ -336,7 +336,7 @@ int main(int argc, char** argv) {
       ->required();
   converge->add_option("--plot", c.plot, "Output PNG: relMSE against time, log-log, one line per method (needs gnuplot)");
   converge->add_option("--methods", c.methods, "Methods to run (direct-uniform, direct-power, direct-tree, restir-di-none, "
-                                               "restir-di-basic, restir-di-pairwise, pt)")
+                                               "restir-di-basic, restir-di-pairwise, pt, restir)")
       ->delimiter(',')->capture_default_str();
   converge->add_option("--reference", c.reference, "Converged full-transport EXR for pt (default: rendered)")->check(CLI::ExistingFile);
   converge->add_option("--reference-direct", c.reference_direct,
@@ -351,7 +351,7 @@ int main(int argc, char** argv) {
   converge->add_option("--width", c.base.width, "Image width")->check(CLI::Range(1, 16384))->capture_default_str();
   converge->add_option("--height", c.base.height, "Image height")->check(CLI::Range(1, 16384))->capture_default_str();
   converge->add_option("--seed", c.base.seed, "Random seed of the methods (references use seed + 7919)")->capture_default_str();
-  converge->add_option("--max-depth", c.base.max_depth, "Path tracer bounces (pt and its reference)")
+  converge->add_option("--max-depth", c.base.max_depth, "Path bounces (pt, restir's GI paths and their reference)")
       ->check(CLI::Range(1, 1024))->capture_default_str();
   converge->add_option("--light-sampler", converge_light_sampler, "Light sampler of pt, restir-di-* candidates and references")
       ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();

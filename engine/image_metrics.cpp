@@ -4,6 +4,12 @@
 
 namespace candela {
 
+double image_mean(const Image& image) {
+  double sum = 0.0;
+  for (const vec3& p : image.pixels) sum += (double(p.x) + p.y + p.z) / 3.0;
+  return image.pixels.empty() ? 0.0 : sum / double(image.pixels.size());
+}
+
 ImageError compare_images(const Image& estimate, const Image& reference) {
   if (estimate.width != reference.width || estimate.height != reference.height)
     throw InputError("image sizes differ: " + std::to_string(estimate.width) + "x" + std::to_string(estimate.height) +

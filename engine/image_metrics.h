@@ -11,6 +11,9 @@ struct ImageError {
   double rel_mse = 0.0;          // mean of (x - r)^2 / (r^2 + 0.01)
 };
 
+// Mean over pixels and channels (0 for an empty image).
+double image_mean(const Image& image);
+
 // Throws InputError when the sizes differ.
 ImageError compare_images(const Image& estimate, const Image& reference);
 

@@ -9,12 +9,6 @@
 namespace candela {
 namespace {
 
-double image_mean(const Image& img) {
-  double m = 0.0;
-  for (const vec3& p : img.pixels) m += (p.x + p.y + p.z) / 3.0;
-  return m / img.pixels.size();
-}
-
 RenderSettings restir_settings(int w, int h, uint64_t seed) {
   RenderSettings s;
   s.width = w;
@@ -106,7 +100,9 @@ TEST(RestirDiReuse, BoilingFilterDropsOutliersOnly) {
   EXPECT_EQ(reservoirs[37].M, 1.0f);  // kept: the reservoir still stands for its candidates
   EXPECT_EQ(reservoirs[38].W, 5.0f);
   for (size_t i = 0; i < reservoirs.size(); ++i)
-    if (i != 37 && i != 38) EXPECT_EQ(reservoirs[i].W, 1.0f) << i;
+    if (i != 37 && i != 38) {
+      EXPECT_EQ(reservoirs[i].W, 1.0f) << i;
+    }
 }
 
 // Static scene and camera: final visibility reuse saves shadow rays where pixels keep their sample, and

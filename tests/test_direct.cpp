@@ -164,11 +164,6 @@ TEST_F(DirectLightScene, RestirDiReuseIsUnbiasedAndHelps) {
   Renderer reference_renderer(*scene_, reference_settings);
   for (int frame = 0; frame < 1024; ++frame) reference_renderer.render_frame(frame, 0.0f, scene_->default_camera());
   Image reference = reference_renderer.image();
-  auto image_mean = [](const Image& img) {
-    double m = 0.0;
-    for (const vec3& p : img.pixels) m += (p.x + p.y + p.z) / 3.0;
-    return m / img.pixels.size();
-  };
   struct Mode { const char* name; bool reuse; DiBiasCorrection bias; bool permutation = false; bool visibility = false; };
   double rel_mse_of[6];
   int k = 0;

@@ -105,7 +105,9 @@ TEST(GBuffer, MotionVectorsFollowMovingInstances) {
   EXPECT_GT(same_car, 0.85 * car_pixels) << same_car << " of " << car_pixels;
   // Static surfaces under a still camera do not move.
   for (size_t i = 0; i < f.cur.size(); ++i)
-    if (f.cur.hit(i) && !scene.instances[f.cur.instance[i]].animated) ASSERT_LT(glm::length(f.cur.motion[i]), 1e-3f);
+    if (f.cur.hit(i) && !scene.instances[f.cur.instance[i]].animated) {
+      ASSERT_LT(glm::length(f.cur.motion[i]), 1e-3f);
+    }
 }
 
 }  // namespace
