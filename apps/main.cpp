@@ -217,8 +217,8 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
                    "restir-di: trace a shadow ray to the chosen candidate before reuse (drops occluded choices; "
                    "the basic bias correction is then no longer exactly unbiased)");
   cmd->add_flag("--di-mis-visibility", r.settings.di_reuse.mis_visibility,
-                   "restir-di, --di-bias basic: include visibility in the reuse MIS weights (unbiased also with "
-                   "--di-visibility; (k+1)^2 shadow rays per pixel)");
+                   "restir-di: include visibility in the reuse MIS weights (unbiased also with --di-visibility; basic: "
+                   "(k+1)^2 shadow rays per pixel, pairwise: 2k)");
   add_reuse_options(*cmd, "di", "restir-di", r.settings.di_reuse, r.di_reuse, r.di_bias);
   add_reuse_options(*cmd, "gi", "restir (GI)", r.settings.gi_reuse, r.gi_reuse, r.gi_bias);
   cmd->add_option("--gi-max-jacobian", r.settings.gi_reuse.max_jacobian,

@@ -32,11 +32,12 @@ enum class Method { PathTrace, Direct, RestirDi, Restir };
 enum class LightSamplerKind { Uniform, Power, Tree, Exhaustive };
 
 // ReSTIR GI's reuse defaults: ReSTIR DI's, plus no reuse on surfaces smoother than roughness 0.2 and
-// samples at most 30 frames old (unbiased: the Jacobian rejection is off).
+// samples at most 30 frames old, and visibility in the MIS weights (unbiased: the Jacobian rejection is off).
 inline DiReuseParams default_gi_reuse() {
   DiReuseParams p;
   p.min_roughness = 0.2f;
   p.max_sample_age = 30;
+  p.mis_visibility = true;  // GI samples are visible from their own pixel by construction
   return p;
 }
 

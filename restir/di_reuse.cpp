@@ -73,19 +73,31 @@ float basic_weight(const SceneView& view, const ReuseInput* inputs, const DiRece
 //   m_i(y) = (1/n) M_i p_i(y) / (M_i p_i(y) + (M_c/n) p_c(y))                       (i > 0)
 //   m_c(y) = (1/n) sum_i (M_c/n) p_c(y) / (M_i p_i(y) + (M_c/n) p_c(y))
 // The weights sum to one wherever p_c > 0, so the combination stays unbiased, at O(n) target
-// evaluations instead of O(n^2). p_i(y_i) is the value stored in input i's reservoir.
+// evaluations instead of O(n^2). p_i(y_i) is the value stored in input i's reservoir. With `visibility`,
+// every neighbour's p_i(y) counts only if y is visible from its surface, in both formulas alike (2n shadow
+// rays): inputs whose samples are visible by construction (ReSTIR GI's, or visibility-tested candidates)
+// rarely produce an occluded y, and weighting them as if they did darkened the image; using V_i in one
+// formula only made the weights of a sample sum to more than one, which temporal reuse amplified without
+// bound (measured). p_c needs no visibility: where y is occluded from the canonical pixel, it shades to
+// zero whatever its weight.
 float pairwise_weight(const SceneView& view, const ReuseInput* inputs, const DiReceiver* receivers, int count, int k,
-                      const PlacedSample& y, float p_hat_here) {
+                      const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   const int n = count - 1;
   if (n == 0) return 1.0f;
+  auto visible_from = [&](int z) {
+    ++rays;
+    return !occluded_from(view, receivers[z], y);
+  };
   const float canonical = inputs[0].M / float(n) * p_hat_here;
   if (k > 0) {
     float term = inputs[k].M * inputs[k].reservoir->p_hat_y;
+    if (visibility && term > 0.0f && !visible_from(k)) term = 0.0f;
     return term + canonical > 0.0f ? term / (term + canonical) / float(n) : 0.0f;
   }
   float m = 0.0f;
   for (int i = 1; i < count; ++i) {
     float term = inputs[i].M * target_at(view, receivers[i], y);
+    if (visibility && term > 0.0f && !visible_from(i)) term = 0.0f;
     m += term + canonical > 0.0f ? canonical / (term + canonical) : 1.0f;
   }
   return m / float(n);
@@ -139,7 +151,8 @@ DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, 
     float m = in.M / M_total;
     if (bias == DiBiasCorrection::Basic)
       m = basic_weight(view, inputs, receivers.data(), count, k, y, p_hat_here, params.mis_visibility, rays);
-    if (bias == DiBiasCorrection::Pairwise) m = pairwise_weight(view, inputs, receivers.data(), count, k, y, p_hat_here);
+    if (bias == DiBiasCorrection::Pairwise)
+      m = pairwise_weight(view, inputs, receivers.data(), count, k, y, p_hat_here, params.mis_visibility, rays);
     out.update(here, m * p_hat_here * in.reservoir->W, p_hat_here, u);
   }
   out.finalize();

@@ -30,9 +30,11 @@ struct DiReuseParams {
   float depth_tolerance = 0.1f;   // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
   DiBiasCorrection bias = DiBiasCorrection::Pairwise;
-  bool mis_visibility = false;    // basic: the MIS weights include visibility of the sample from each input's
-                                  // surface (unbiased also with candidate_visibility; (k+1)^2 shadow rays per
-                                  // pixel; temporal inputs are tested against this frame's geometry)
+  bool mis_visibility = false;    // the MIS weights include visibility of the sample from the other inputs'
+                                  // surfaces: needed to stay unbiased when every input's samples are visible
+                                  // from it (candidate_visibility; ReSTIR GI's samples, always). Shadow rays per
+                                  // pixel: basic (k+1)^2, pairwise 2k; temporal inputs are tested against this
+                                  // frame's geometry
   float boiling_threshold = 0.0f; // > 0: after temporal reuse, drop reservoirs whose estimated contribution
                                   // exceeds this many times their 16x16 block's mean (biased: darkens; see
                                   // di_boiling_filter)

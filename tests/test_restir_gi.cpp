@@ -78,6 +78,47 @@ TEST(RestirGi, IndirectLightIsUnbiased) {
   }
 }
 
+// Occlusion: in manylights (pillars, a partition wall, blocks; every material made Lambertian) a
+// neighbour's GI sample is often hidden from a pixel. GI samples are visible from their own pixel by
+// construction, so the MIS weights must count a neighbour only where it sees the sample (mis_visibility,
+// on by default for GI). 48 runs of 16 still frames of GI alone, pairwise, 3 bounces: the mean of the last
+// frames agrees with the path tracer's indirect component within 4 standard errors (spread between runs
+// plus the reference's own). Measured: -0.2%; the same runs without visibility in the weights are 3.6%
+// dark (7 standard errors), so this test fails on that mistake.
+TEST(RestirGi, ReuseAcrossOccludersIsUnbiased) {
+  Scene scene = make_manylights_scene(64, 3);
+  for (Material& m : scene.materials) m.specular = 0.0f;
+  const int w = 64, h = 36, depth = 3, runs = 48, frames = 16;
+  Image full = path_traced(scene, w, h, depth, 1024), direct = path_traced(scene, w, h, 1, 1024);
+  const double indirect = image_mean(full) - image_mean(direct);
+  const double reference_error = std::abs(image_mean(path_traced(scene, w, h, depth, 128)) -
+                                          image_mean(path_traced(scene, w, h, 1, 128)) - indirect) / std::sqrt(8.0);
+  double sum = 0.0, sum2 = 0.0;
+  for (int run = 0; run < runs; ++run) {
+    RenderSettings s;
+    s.width = w;
+    s.height = h;
+    s.jitter = false;
+    s.accumulate = false;
+    s.method = Method::Restir;
+    s.gi_only = true;
+    s.max_depth = depth;
+    s.seed = 900 + run;
+    s.gi_reuse.spatial_radius = 8.0f;
+    ASSERT_TRUE(s.gi_reuse.mis_visibility);
+    Renderer renderer(scene, s);
+    for (int frame = 0; frame < frames; ++frame) renderer.render_frame(frame, 0.0f, scene.default_camera());
+    double m = image_mean(renderer.image());
+    sum += m;
+    sum2 += m * m;
+  }
+  double mean = sum / runs, error = std::sqrt(std::max(0.0, sum2 / runs - mean * mean) / (runs - 1));
+  double tolerance = 4.0 * std::sqrt(error * error + reference_error * reference_error);
+  std::printf("restir gi on manylights: indirect mean %.5f vs path-traced %.5f (difference %+.5f = %+.1f%%, tolerance "
+              "%.5f)\n", mean, indirect, mean - indirect, 100.0 * (mean - indirect) / indirect, tolerance);
+  EXPECT_NEAR(mean, indirect, tolerance);
+}
+
 // A camera flying through the city (whose cars and their lights move too): 30 frames of DI + GI give
 // finite pixels, and the last frame's image mean is within 10% of the path tracer's frame (no drift of
 // brightness from stale samples).

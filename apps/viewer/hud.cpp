@@ -165,7 +165,7 @@ bool draw_restir_di_settings(RenderSettings& s) {
   changed |= slider("candidates", s.di.light_candidates, 0, 64);
   changed |= slider("bsdf candidates", s.di.bsdf_candidates, 0, 8);
   changed |= ImGui::Checkbox("candidate visibility", &s.di.candidate_visibility);
-  changed |= ImGui::Checkbox("MIS visibility (basic)", &s.di_reuse.mis_visibility);
+  changed |= ImGui::Checkbox("MIS visibility", &s.di_reuse.mis_visibility);
   changed |= draw_reuse_settings(s.di_reuse);
   ImGui::PopID();
   ImGui::EndDisabled();
