@@ -21,6 +21,9 @@ inline constexpr float kInfinity = 1e30f;
 // Rec. 709 luminance of linear RGB.
 inline float luminance(const vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 inline float max_component(const vec3& c) { return std::max(c.x, std::max(c.y, c.z)); }
+// Nearest integer, halves rounded up. Inlines to a few instructions, where std::lround is a libm call
+// (it showed as 1.7% of a ReSTIR DI frame).
+inline int round_nearest(float v) { return int(std::floor(v + 0.5f)); }
 inline bool is_finite(const vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // Orthonormal basis around unit n (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").

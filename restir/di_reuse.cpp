@@ -210,17 +210,27 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     ReuseInput inputs[32];
     int count = 0;
     inputs[count++] = {&in[i], &current, i, in[i].M};
-    const vec3 n = surfaces[i].shading_n();
+    // Neighbours: uniform points in the disk of the given radius, by rejection from the square (no
+    // trigonometry). All are drawn first and their surfaces and reservoirs prefetched, so that their cache
+    // misses overlap instead of following one another.
+    size_t candidates[32];
+    int drawn = 0;
     for (int k = 1; k < max_inputs; ++k) {
-      // A uniform point in the disk of the given radius, by rejection from the square (no trigonometry).
       vec2 d;
       do d = vec2(rng.next_float(), rng.next_float()) * 2.0f - 1.0f;
       while (glm::dot(d, d) > 1.0f);
-      int nx = x + int(std::lround(params.spatial_radius * d.x)), ny = y + int(std::lround(params.spatial_radius * d.y));
+      int nx = x + round_nearest(params.spatial_radius * d.x), ny = y + round_nearest(params.spatial_radius * d.y);
       if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
       size_t j = size_t(ny) * width + nx;
-      if (!similar(surfaces[i], n, surfaces[j], params)) continue;
-      inputs[count++] = {&in[j], &current, j, in[j].M};
+      __builtin_prefetch(&surfaces[j]);
+      __builtin_prefetch(&in[j]);
+      __builtin_prefetch(reinterpret_cast<const char*>(&in[j]) + sizeof(DiReservoir) - 1);
+      candidates[drawn++] = j;
+    }
+    const vec3 n = surfaces[i].shading_n();
+    for (int c = 0; c < drawn; ++c) {
+      size_t j = candidates[c];
+      if (similar(surfaces[i], n, surfaces[j], params)) inputs[count++] = {&in[j], &current, j, in[j].M};
     }
     uint64_t traced = 0;
     out[i] = combine(view, inputs, count, params, rng, traced);

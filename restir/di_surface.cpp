@@ -4,7 +4,7 @@
 
 namespace candela {
 
-static uint32_t unorm8(float v) { return uint32_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+static uint32_t unorm8(float v) { return uint32_t(round_nearest(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
 static float from_unorm8(uint32_t v) { return float(v & 255) * (1.0f / 255.0f); }
 
 Bsdf DiSurface::bsdf(const vec3& n) const {
