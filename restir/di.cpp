@@ -2,6 +2,23 @@
 
 namespace candela {
 
+DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
+  DiContribution c;
+  const bool stored_point = s.light < r.lights->triangle_count() || s.light == kSurfacePointSample;
+  c.light = stored_point ? light_sample_towards(s.point, r.position) : r.lights->sample_punctual(s.light, r.position);
+  const LightSample& ls = c.light;
+  if (max_component(ls.radiance) <= 0.0f || glm::dot(ls.wi, r.geometric_normal) <= 0.0f) return c;
+  vec3 f = r.bsdf.eval(r.wo, ls.wi) * std::abs(glm::dot(ls.wi, r.shading_normal));
+  if (ls.is_delta) {
+    c.value = f * ls.radiance;
+    return c;
+  }
+  // Solid angle to area: dw = |cos_l| / d^2 dA.
+  float geometry = std::abs(glm::dot(ls.normal, ls.wi)) / (ls.distance * ls.distance);
+  c.value = f * ls.radiance * geometry;
+  return c;
+}
+
 bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightSample& ls) {
   return view.tracer.occluded(shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], ls));
 }

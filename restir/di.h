@@ -85,23 +85,7 @@ struct DiContribution {
   vec3 value{0.0f};
   LightSample light;
 };
-// Inline: the target-only callers (most of them) then skip building the parts they do not read.
-inline DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
-  DiContribution c;
-  const bool stored_point = s.light < r.lights->triangle_count() || s.light == kSurfacePointSample;
-  c.light = stored_point ? light_sample_towards(s.point, r.position) : r.lights->sample_punctual(s.light, r.position);
-  const LightSample& ls = c.light;
-  if (max_component(ls.radiance) <= 0.0f || glm::dot(ls.wi, r.geometric_normal) <= 0.0f) return c;
-  vec3 f = r.bsdf.eval(r.wo, ls.wi) * std::abs(glm::dot(ls.wi, r.shading_normal));
-  if (ls.is_delta) {
-    c.value = f * ls.radiance;
-    return c;
-  }
-  // Solid angle to area: dw = |cos_l| / d^2 dA.
-  float geometry = std::abs(glm::dot(ls.normal, ls.wi)) / (ls.distance * ls.distance);
-  c.value = f * ls.radiance * geometry;
-  return c;
-}
+DiContribution di_contribution(const DiReceiver& receiver, const DiSample& s);
 
 // Target function p_hat: luminance of the unshadowed contribution.
 inline float di_target(const DiContribution& c) { return luminance(c.value); }
