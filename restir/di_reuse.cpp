@@ -12,6 +12,8 @@ struct ReuseInput {
   const DiDomain* domain;
   size_t pixel;
   float M;  // confidence used for this input (capped for history)
+  int8_t own_visible = -1;  // 1 or 0: whether the reservoir's sample is visible from its own surface, when
+                            // known already; -1: a ray finds out if a weight needs it
 };
 
 // Whether surface b may share samples with surface a (shading normal a_n): close in depth and orientation.
@@ -91,7 +93,7 @@ float pairwise_weight(const SceneView& view, const ReuseInput* inputs, const DiR
   const float canonical = inputs[0].M / float(n) * p_hat_here;
   if (k > 0) {
     float term = inputs[k].M * inputs[k].reservoir->p_hat_y;
-    if (visibility && term > 0.0f && !visible_from(k)) term = 0.0f;
+    if (visibility && term > 0.0f && !(inputs[k].own_visible >= 0 ? inputs[k].own_visible == 1 : visible_from(k))) term = 0.0f;
     return term + canonical > 0.0f ? term / (term + canonical) / float(n) : 0.0f;
   }
   float m = 0.0f;
@@ -202,6 +204,18 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   const int width = current.width, height = current.height;
   out = in;
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
+  // Pairwise MIS with visibility asks every neighbour whether its own sample is visible from it: asked
+  // here once per pixel (one shadow ray each) instead of once per pixel and neighbour.
+  std::vector<int8_t> own_visible;
+  if (params.mis_visibility && params.bias == DiBiasCorrection::Pairwise) {
+    own_visible.assign(in.size(), -1);
+    for_each_pixel(width, height, rays, [&](size_t j, int, int) -> uint64_t {
+      if (!surfaces[j].hit() || in[j].W <= 0.0f || in[j].p_hat_y <= 0.0f) return 0;
+      const PlacedSample y{in[j].y, &current.lights, in[j].y, &current.lights};
+      own_visible[j] = occluded_from(view, di_receiver(current, j), y) ? 0 : 1;
+      return 1;
+    });
+  }
   for_each_pixel(width, height, rays, [&](size_t i, int x, int y) -> uint64_t {
     if (!surfaces[i].hit() || surfaces[i].roughness() < params.min_roughness) return 0;
     const int neighbours = boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
@@ -230,7 +244,8 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     const vec3 n = surfaces[i].shading_n();
     for (int c = 0; c < drawn; ++c) {
       size_t j = candidates[c];
-      if (similar(surfaces[i], n, surfaces[j], params)) inputs[count++] = {&in[j], &current, j, in[j].M};
+      if (similar(surfaces[i], n, surfaces[j], params))
+        inputs[count++] = {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
     }
     uint64_t traced = 0;
     out[i] = combine(view, inputs, count, params, rng, traced);
