@@ -23,76 +23,29 @@ Image path_traced(const Scene& scene, int w, int h, int depth, int spp) {
   return renderer.image();
 }
 
-// Cornell with every material pure Lambert: there ReSTIR GI's one approximation (a sample point sends the
+// `scene` with every material pure Lambert: there ReSTIR GI's one approximation (a sample point sends the
 // radiance it was traced with to every receiver) is exact, so the unbiased mode must be unbiased.
-Scene lambertian_cornell() {
-  Scene scene = make_cornell_scene();
+Scene lambertian(Scene scene) {
   for (Material& m : scene.materials) m.specular = 0.0f;
   return scene;
 }
 
-// For each bias mode, 32 independent runs (seeds) of 6 still frames of GI alone (pixel centres, 3 bounces):
-// the mean over runs of the last frame's image mean agrees with the path tracer's indirect component
-// (2048 spp at depth 3 minus 2048 spp at depth 1) within 4 standard errors (estimated from the spread
-// between runs plus the reference's own) for "pairwise" and for no reuse; "none" (1/M) is measured and
-// its bias printed.
-TEST(RestirGi, IndirectLightIsUnbiased) {
-  const Scene scene = lambertian_cornell();
-  const int w = 32, h = 24, depth = 3, runs = 32, frames = 6;
-  Image full = path_traced(scene, w, h, depth, 2048), direct = path_traced(scene, w, h, 1, 2048);
-  const double indirect = image_mean(full) - image_mean(direct);
-  // Standard error of the reference's mean: the two images' per-pixel errors, estimated from a second
-  // independent pair at 1/8 of the samples.
-  const double reference_error = std::abs(image_mean(path_traced(scene, w, h, depth, 256)) -
-                                          image_mean(path_traced(scene, w, h, 1, 256)) - indirect) / std::sqrt(8.0);
-  struct Mode { const char* name; bool reuse; DiBiasCorrection bias; };
-  for (Mode mode : {Mode{"no reuse", false, DiBiasCorrection::Pairwise}, Mode{"pairwise", true, DiBiasCorrection::Pairwise},
-                    Mode{"none", true, DiBiasCorrection::None}}) {
-    double sum = 0.0, sum2 = 0.0;
-    for (int run = 0; run < runs; ++run) {
-      RenderSettings s;
-      s.width = w;
-      s.height = h;
-      s.jitter = false;
-      s.accumulate = false;
-      s.method = Method::Restir;
-      s.gi_only = true;
-      s.max_depth = depth;
-      s.seed = 500 + run;
-      s.gi_reuse.temporal = s.gi_reuse.spatial = mode.reuse;
-      s.gi_reuse.bias = mode.bias;
-      s.gi_reuse.spatial_radius = 4.0f;  // keep neighbours inside the small image
-      Renderer renderer(scene, s);
-      for (int frame = 0; frame < frames; ++frame) renderer.render_frame(frame, 0.0f, scene.default_camera());
-      double m = image_mean(renderer.image());
-      sum += m;
-      sum2 += m * m;
-    }
-    double mean = sum / runs, error = std::sqrt(std::max(0.0, sum2 / runs - mean * mean) / (runs - 1));
-    double tolerance = 4.0 * std::sqrt(error * error + reference_error * reference_error);
-    std::printf("restir gi, %-9s: indirect mean %.5f vs path-traced %.5f (difference %+.5f = %+.1f%%, tolerance %.5f)\n",
-                mode.name, mean, indirect, mean - indirect, 100.0 * (mean - indirect) / indirect, tolerance);
-    if (mode.bias != DiBiasCorrection::None) {
-      EXPECT_NEAR(mean, indirect, tolerance) << mode.name;
-    }
-  }
+// The path tracer's indirect component as an image mean (`spp` at `depth` bounces minus `spp` at one
+// bounce) and its standard error, estimated from a second independent pair at 1/8 of the samples.
+struct Indirect {
+  double mean, standard_error;
+};
+Indirect path_traced_indirect(const Scene& scene, int w, int h, int depth, int spp) {
+  const double mean = image_mean(path_traced(scene, w, h, depth, spp)) - image_mean(path_traced(scene, w, h, 1, spp));
+  const double check = image_mean(path_traced(scene, w, h, depth, spp / 8)) - image_mean(path_traced(scene, w, h, 1, spp / 8));
+  return {mean, std::abs(check - mean) / std::sqrt(8.0)};
 }
 
-// Occlusion: in manylights (pillars, a partition wall, blocks; every material made Lambertian) a
-// neighbour's GI sample is often hidden from a pixel. GI samples are visible from their own pixel by
-// construction, so the MIS weights must count a neighbour only where it sees the sample (mis_visibility,
-// on by default for GI). 48 runs of 16 still frames of GI alone, pairwise, 3 bounces: the mean of the last
-// frames agrees with the path tracer's indirect component within 4 standard errors (spread between runs
-// plus the reference's own). Measured: -0.2%; the same runs without visibility in the weights are 3.6%
-// dark (7 standard errors), so this test fails on that mistake.
-TEST(RestirGi, ReuseAcrossOccludersIsUnbiased) {
-  Scene scene = make_manylights_scene(64, 3);
-  for (Material& m : scene.materials) m.specular = 0.0f;
-  const int w = 64, h = 36, depth = 3, runs = 48, frames = 16;
-  Image full = path_traced(scene, w, h, depth, 1024), direct = path_traced(scene, w, h, 1, 1024);
-  const double indirect = image_mean(full) - image_mean(direct);
-  const double reference_error = std::abs(image_mean(path_traced(scene, w, h, depth, 128)) -
-                                          image_mean(path_traced(scene, w, h, 1, 128)) - indirect) / std::sqrt(8.0);
+// `runs` independent runs (seeds from `seed`) of `frames` still frames of ReSTIR GI alone (pixel centres,
+// `depth` bounces, reuse set by `reuse`): the mean over runs of the last frame's image mean and its
+// standard error from the spread between runs.
+Indirect restir_gi_runs(const Scene& scene, int w, int h, int depth, int runs, int frames, uint64_t seed,
+                        const DiReuseParams& reuse) {
   double sum = 0.0, sum2 = 0.0;
   for (int run = 0; run < runs; ++run) {
     RenderSettings s;
@@ -103,20 +56,64 @@ TEST(RestirGi, ReuseAcrossOccludersIsUnbiased) {
     s.method = Method::Restir;
     s.gi_only = true;
     s.max_depth = depth;
-    s.seed = 900 + run;
-    s.gi_reuse.spatial_radius = 8.0f;
-    ASSERT_TRUE(s.gi_reuse.mis_visibility);
+    s.seed = seed + uint64_t(run);
+    s.gi_reuse = reuse;
     Renderer renderer(scene, s);
     for (int frame = 0; frame < frames; ++frame) renderer.render_frame(frame, 0.0f, scene.default_camera());
     double m = image_mean(renderer.image());
     sum += m;
     sum2 += m * m;
   }
-  double mean = sum / runs, error = std::sqrt(std::max(0.0, sum2 / runs - mean * mean) / (runs - 1));
-  double tolerance = 4.0 * std::sqrt(error * error + reference_error * reference_error);
-  std::printf("restir gi on manylights: indirect mean %.5f vs path-traced %.5f (difference %+.5f = %+.1f%%, tolerance "
-              "%.5f)\n", mean, indirect, mean - indirect, 100.0 * (mean - indirect) / indirect, tolerance);
-  EXPECT_NEAR(mean, indirect, tolerance);
+  const double mean = sum / runs;
+  return {mean, std::sqrt(std::max(0.0, sum2 / runs - mean * mean) / (runs - 1))};
+}
+
+// Prints the comparison and returns its tolerance: 4 standard errors of the difference.
+double report(const char* name, const Indirect& gi, const Indirect& reference) {
+  const double tolerance = 4.0 * std::hypot(gi.standard_error, reference.standard_error);
+  std::printf("restir gi, %-22s: indirect mean %.5f vs path-traced %.5f (difference %+.5f = %+.1f%%, tolerance %.5f)\n",
+              name, gi.mean, reference.mean, gi.mean - reference.mean, 100.0 * (gi.mean - reference.mean) / reference.mean,
+              tolerance);
+  return tolerance;
+}
+
+// Lambertian Cornell box, for each bias mode 32 runs of 6 frames at 3 bounces: the mean agrees with the
+// path tracer's indirect component (2048 spp) within 4 standard errors for "pairwise" and for no reuse;
+// "none" (1/M) is measured and its bias printed.
+TEST(RestirGi, IndirectLightIsUnbiased) {
+  const Scene scene = lambertian(make_cornell_scene());
+  const int w = 32, h = 24, depth = 3;
+  const Indirect reference = path_traced_indirect(scene, w, h, depth, 2048);
+  struct Mode { const char* name; bool reuse; DiBiasCorrection bias; };
+  for (Mode mode : {Mode{"no reuse", false, DiBiasCorrection::Pairwise}, Mode{"pairwise", true, DiBiasCorrection::Pairwise},
+                    Mode{"none", true, DiBiasCorrection::None}}) {
+    DiReuseParams reuse = default_gi_reuse();
+    reuse.temporal = reuse.spatial = mode.reuse;
+    reuse.bias = mode.bias;
+    reuse.spatial_radius = 4.0f;  // keep neighbours inside the small image
+    const Indirect gi = restir_gi_runs(scene, w, h, depth, 32, 6, 500, reuse);
+    const double tolerance = report(mode.name, gi, reference);
+    if (mode.bias != DiBiasCorrection::None) {
+      EXPECT_NEAR(gi.mean, reference.mean, tolerance) << mode.name;
+    }
+  }
+}
+
+// Occlusion: in manylights (pillars, a partition wall, blocks; every material made Lambertian) a
+// neighbour's GI sample is often hidden from a pixel. GI samples are visible from their own pixel by
+// construction, so the MIS weights must count a neighbour only where it sees the sample (mis_visibility,
+// on by default for GI). 48 runs of 16 still frames, pairwise, 3 bounces: the mean agrees with the path
+// tracer's indirect component (1024 spp) within 4 standard errors. Measured: -0.2%; the same runs
+// without visibility in the weights are 3.6% dark (7 standard errors), so this test fails on that mistake.
+TEST(RestirGi, ReuseAcrossOccludersIsUnbiased) {
+  const Scene scene = lambertian(make_manylights_scene(64, 3));
+  const int w = 64, h = 36, depth = 3;
+  const Indirect reference = path_traced_indirect(scene, w, h, depth, 1024);
+  DiReuseParams reuse = default_gi_reuse();
+  ASSERT_TRUE(reuse.mis_visibility);
+  reuse.spatial_radius = 8.0f;
+  const Indirect gi = restir_gi_runs(scene, w, h, depth, 48, 16, 900, reuse);
+  EXPECT_NEAR(gi.mean, reference.mean, report("manylights, pairwise", gi, reference));
 }
 
 // A camera flying through the city (whose cars and their lights move too): 30 frames of DI + GI give
