@@ -76,8 +76,8 @@ float basic_weight(const SceneView& view, const ReuseInput* inputs, const DiRece
 //   m_c(y) = (1/n) sum_i (M_c/n) p_c(y) / (M_i p_i(y) + (M_c/n) p_c(y))
 // The weights sum to one wherever p_c > 0, so the combination stays unbiased, at O(n) target
 // evaluations instead of O(n^2). p_i(y_i) is the value stored in input i's reservoir. With `visibility`,
-// every neighbour's p_i(y) counts only if y is visible from its surface, in both formulas alike (2n shadow
-// rays): inputs whose samples are visible by construction (ReSTIR GI's, or visibility-tested candidates)
+// every neighbour's p_i(y) counts only if y is visible from its surface, in both formulas alike (up to 2n
+// shadow rays; the spatial pass answers the own-sample half once per pixel beforehand): inputs whose samples are visible by construction (ReSTIR GI's, or visibility-tested candidates)
 // rarely produce an occluded y, and weighting them as if they did darkened the image; using V_i in one
 // formula only made the weights of a sample sum to more than one, which temporal reuse amplified without
 // bound (measured). p_c needs no visibility: where y is occluded from the canonical pixel, it shades to
@@ -93,7 +93,10 @@ float pairwise_weight(const SceneView& view, const ReuseInput* inputs, const DiR
   const float canonical = inputs[0].M / float(n) * p_hat_here;
   if (k > 0) {
     float term = inputs[k].M * inputs[k].reservoir->p_hat_y;
-    if (visibility && term > 0.0f && !(inputs[k].own_visible >= 0 ? inputs[k].own_visible == 1 : visible_from(k))) term = 0.0f;
+    if (visibility && term > 0.0f) {
+      const bool own_visible = inputs[k].own_visible >= 0 ? inputs[k].own_visible == 1 : visible_from(k);
+      if (!own_visible) term = 0.0f;
+    }
     return term + canonical > 0.0f ? term / (term + canonical) / float(n) : 0.0f;
   }
   float m = 0.0f;
