@@ -294,7 +294,7 @@ int main(int argc, char** argv) {
   render->add_option("--stop-after", r.stop_after, "--script: stop after writing this many frames")->check(CLI::Range(0, 1 << 30));
   render->add_option("--aov", r.aov,
                      "Write a debug view instead of radiance: reservoir-m (confidence M), reservoir-w (contribution "
-                     "weight W), reservoir-light (chosen light, hashed colour); restir-di only")
+                     "weight W), reservoir-light (chosen light, hashed colour); restir-di and restir (ReSTIR DI's reservoirs)")
       ->check(CLI::IsMember({"none", "reservoir-m", "reservoir-w", "reservoir-light"}))->capture_default_str();
   render->add_option("--stats", r.stats, "Write per-frame stage timings and ray counts as JSON");
 
@@ -313,7 +313,7 @@ int main(int argc, char** argv) {
   std::map<std::string, DisplayView> views;
   for (DisplayView v : kDisplayViews) views[display_view_option(v)] = v;
   view->add_option("--show", viewer.view, "What is displayed first: radiance, or a debug view of the G-buffer (albedo, normal, "
-                                          "depth, motion) or of the reservoirs (reservoir-m, reservoir-w; restir-di)")
+                                          "depth, motion) or of the reservoirs (reservoir-m, reservoir-w; restir-di or restir)")
       ->transform(CLI::CheckedTransformer(views))->capture_default_str();
   view->add_option("--test-minimise", viewer.test_minimise_frame, "Test hook: minimise the window for 3 frames from this frame on")
       ->check(CLI::Range(0, 1 << 24));
