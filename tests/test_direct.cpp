@@ -8,6 +8,7 @@
 #include "engine/path_tracer.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
+#include "tests/flythrough.h"
 #include "tests/light_reach.h"
 #include "tests/render_helpers.h"
 
@@ -229,13 +230,7 @@ TEST(RestirDi, EnvironmentReachesThroughBsdfCandidates) {
 // 1.7% high as the implementation changed).
 TEST(RestirDi, MovingCameraAndLightsStayFiniteAndUnbiased) {
   Scene scene = make_city_scene(7);
-  CameraDesc start = scene.default_camera();
-  auto camera_at = [&](int frame) {
-    CameraDesc c = start;
-    c.position += vec3(0.4f * frame, -0.2f * frame, -0.8f * frame);
-    c.target += vec3(0.3f * frame, 0.0f, -0.5f * frame);
-    return c;
-  };
+  const CameraDesc start = scene.default_camera();
   const int w = 96, h = 54, frames = 30;
   RenderSettings settings;
   settings.width = w;
@@ -244,14 +239,12 @@ TEST(RestirDi, MovingCameraAndLightsStayFiniteAndUnbiased) {
   settings.light_sampler = LightSamplerKind::Power;
   settings.accumulate = false;
   Renderer renderer(scene, settings);
-  for (int frame = 0; frame < frames; ++frame) {
-    renderer.render_frame(frame, frame / 30.0f, camera_at(frame));
-    for (const vec3& p : renderer.image().pixels) ASSERT_TRUE(is_finite(p)) << "frame " << frame;
-  }
+  testing::render_flythrough(renderer, start, frames);
+  if (HasFatalFailure()) return;
   // Reference: the same frame (scene time and camera) by the path tracer, direct light only, 256 spp.
   Scene reference_scene = make_city_scene(7);
   reference_scene.set_time((frames - 1) / 30.0f);
-  reference_scene.camera = camera_at(frames - 1);
+  reference_scene.camera = testing::flythrough_camera(start, frames - 1);
   Image reference = testing::render_paths<PowerLightSampler>(reference_scene, LightList(reference_scene), w, h, 256, 1, 3);
   double mean = 0.0, reference_mean = 0.0;
   Image img = renderer.image();

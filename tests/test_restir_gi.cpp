@@ -5,6 +5,7 @@
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
 #include "engine/image_metrics.h"
+#include "tests/flythrough.h"
 
 namespace candela {
 namespace {
@@ -121,13 +122,7 @@ TEST(RestirGi, ReuseAcrossOccludersIsUnbiased) {
 // brightness from stale samples).
 TEST(RestirGi, MovingCameraStaysFiniteAndDoesNotDrift) {
   Scene scene = make_city_scene(7);
-  CameraDesc start = scene.default_camera();
-  auto camera_at = [&](int frame) {
-    CameraDesc c = start;
-    c.position += vec3(0.4f * frame, -0.2f * frame, -0.8f * frame);
-    c.target += vec3(0.3f * frame, 0.0f, -0.5f * frame);
-    return c;
-  };
+  const CameraDesc start = scene.default_camera();
   const int w = 80, h = 45, frames = 30, depth = 3;
   RenderSettings s;
   s.width = w;
@@ -136,13 +131,11 @@ TEST(RestirGi, MovingCameraStaysFiniteAndDoesNotDrift) {
   s.accumulate = false;
   s.max_depth = depth;
   Renderer renderer(scene, s);
-  for (int frame = 0; frame < frames; ++frame) {
-    renderer.render_frame(frame, frame / 30.0f, camera_at(frame));
-    for (const vec3& p : renderer.image().pixels) ASSERT_TRUE(is_finite(p)) << "frame " << frame;
-  }
+  testing::render_flythrough(renderer, start, frames);
+  if (HasFatalFailure()) return;
   Scene reference_scene = make_city_scene(7);
   reference_scene.set_time((frames - 1) / 30.0f);
-  reference_scene.camera = camera_at(frames - 1);
+  reference_scene.camera = testing::flythrough_camera(start, frames - 1);
   double reference = image_mean(path_traced(reference_scene, w, h, depth, 256));
   double mean = image_mean(renderer.image());
   std::printf("moving city, DI + GI, frame %d: image mean %.5f, path-traced %.5f (ratio %.3f)\n", frames - 1, mean,
