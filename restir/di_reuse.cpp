@@ -77,8 +77,9 @@ float basic_weight(const SceneView& view, const ReuseInput* inputs, const DiRece
 // The weights sum to one wherever p_c > 0, so the combination stays unbiased, at O(n) target
 // evaluations instead of O(n^2). p_i(y_i) is the value stored in input i's reservoir. With `visibility`,
 // every neighbour's p_i(y) counts only if y is visible from its surface, in both formulas alike (up to 2n
-// shadow rays; the spatial pass answers the own-sample half once per pixel beforehand): inputs whose samples are visible by construction (ReSTIR GI's, or visibility-tested candidates)
-// rarely produce an occluded y, and weighting them as if they did darkened the image; using V_i in one
+// shadow rays; the spatial pass answers the own-sample half once per pixel beforehand): inputs whose
+// samples are visible by construction (ReSTIR GI's, or visibility-tested candidates) rarely produce an
+// occluded y, and weighting them as if they did darkened the image; using V_i in one
 // formula only made the weights of a sample sum to more than one, which temporal reuse amplified without
 // bound (measured). p_c needs no visibility: where y is occluded from the canonical pixel, it shades to
 // zero whatever its weight.
