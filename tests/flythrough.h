@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "apps/renderer.h"
+#include "engine/builtin_scenes.h"
 
 namespace candela::testing {
 
@@ -22,6 +23,15 @@ inline void render_flythrough(Renderer& renderer, const CameraDesc& start, int f
     renderer.render_frame(frame, frame / 30.0f, flythrough_camera(start, frame));
     for (const vec3& p : renderer.image().pixels) ASSERT_TRUE(is_finite(p)) << "frame " << frame;
   }
+}
+
+// `city` (seed 7) as it stands at frame `frame` of the fly-through: scene time and camera, for a
+// reference render of that frame.
+inline Scene flythrough_scene_at(const CameraDesc& start, int frame) {
+  Scene scene = make_city_scene(7);
+  scene.set_time(frame / 30.0f);
+  scene.camera = flythrough_camera(start, frame);
+  return scene;
 }
 
 }  // namespace candela::testing

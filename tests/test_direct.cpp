@@ -242,9 +242,7 @@ TEST(RestirDi, MovingCameraAndLightsStayFiniteAndUnbiased) {
   testing::render_flythrough(renderer, start, frames);
   if (HasFatalFailure()) return;
   // Reference: the same frame (scene time and camera) by the path tracer, direct light only, 256 spp.
-  Scene reference_scene = make_city_scene(7);
-  reference_scene.set_time((frames - 1) / 30.0f);
-  reference_scene.camera = testing::flythrough_camera(start, frames - 1);
+  const Scene reference_scene = testing::flythrough_scene_at(start, frames - 1);
   Image reference = testing::render_paths<PowerLightSampler>(reference_scene, LightList(reference_scene), w, h, 256, 1, 3);
   double mean = 0.0, reference_mean = 0.0;
   Image img = renderer.image();

@@ -133,9 +133,7 @@ TEST(RestirGi, MovingCameraStaysFiniteAndDoesNotDrift) {
   Renderer renderer(scene, s);
   testing::render_flythrough(renderer, start, frames);
   if (HasFatalFailure()) return;
-  Scene reference_scene = make_city_scene(7);
-  reference_scene.set_time((frames - 1) / 30.0f);
-  reference_scene.camera = testing::flythrough_camera(start, frames - 1);
+  const Scene reference_scene = testing::flythrough_scene_at(start, frames - 1);
   double reference = image_mean(path_traced(reference_scene, w, h, depth, 256));
   double mean = image_mean(renderer.image());
   std::printf("moving city, DI + GI, frame %d: image mean %.5f, path-traced %.5f (ratio %.3f)\n", frames - 1, mean,
