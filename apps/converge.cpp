@@ -156,9 +156,7 @@ int run_converge(const ConvergeOptions& o) {
   }
   BuiltinOptions builtin;
   builtin.light_count = o.lights;
-  Scene scene = load_scene(o.scene, builtin);
-  if (o.environment >= 0.0f) scene.environment = vec3(o.environment);
-  else if (o.scene.rfind("builtin:", 0) != 0) scene.environment = vec3(0.3f);
+  Scene scene = load_scene(o.scene, builtin, o.environment);
 
   std::vector<int> counts;
   for (int n = 1; n <= o.max_spp; n *= 2) counts.push_back(n);

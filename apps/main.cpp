@@ -37,7 +37,7 @@ struct RenderOptions {
   float exposure = 1.0f;
   int threads = 0;
   int lights = 1024;
-  float environment = -1.0f;  // < 0: the scene's own (built-in scenes), 0.3 for glTF files
+  float environment = -1.0f;  // < 0: the default rule (apply_default_environment)
   bool quiet = false;
   std::string method = "pt";
   std::string light_sampler = "power";
@@ -114,11 +114,7 @@ void resolve_settings(RenderOptions& o) {
 Scene load_frame_scene(const RenderOptions& o) {
   BuiltinOptions builtin;
   builtin.light_count = o.lights;
-  Scene scene = load_scene(o.scene, builtin);
-  bool builtin_scene = o.scene.rfind("builtin:", 0) == 0;
-  if (o.environment >= 0.0f) scene.environment = vec3(o.environment);
-  else if (!builtin_scene) scene.environment = vec3(0.3f);
-  return scene;
+  return load_scene(o.scene, builtin, o.environment);
 }
 
 // Renders `frames` frames (scene time advances by 1/fps per frame), prints progress and per-frame
@@ -246,7 +242,8 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
   cmd->add_option("--lights", r.lights, "builtin:manylights: number of ceiling lights")
       ->check(CLI::Range(1, 4000000))->capture_default_str();
   cmd->add_option("--environment", r.environment,
-                     "Uniform background radiance (grey); default: the built-in scene's own, 0.3 for glTF files")
+                     "Uniform background radiance (grey); default: the built-in scene's own; for glTF files none if the file "
+                     "has lights, else 0.3 with a warning")
       ->check(CLI::Range(0.0f, 1e6f));
   cmd->add_flag("--no-jitter", [&r](int64_t) { r.settings.jitter = false; },
                    "Primary rays through pixel centres instead of jittered positions (no anti-aliasing: isolates the "
@@ -356,7 +353,7 @@ int main(int argc, char** argv) {
   converge->add_option("--light-sampler", converge_light_sampler, "Light sampler of pt, restir-di-* candidates and references")
       ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();
   converge->add_option("--lights", c.lights, "builtin:manylights: number of ceiling lights")->check(CLI::Range(1, 4000000))->capture_default_str();
-  converge->add_option("--environment", c.environment, "Uniform background radiance; default: the scene's own")->check(CLI::Range(0.0f, 1e6f));
+  converge->add_option("--environment", c.environment, "Uniform background radiance; default: the scene's own (none for a glTF file that has lights, 0.3 for one without)")->check(CLI::Range(0.0f, 1e6f));
   converge->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024));
   converge->add_flag("--jitter", c.base.jitter,
                      "Jitter primary rays (adds pixel-coverage noise of edges and small emitters to every method; "

@@ -158,12 +158,10 @@ int run_sequence(const ShotScript& script, const SequenceOptions& options) {
   builtin.light_count = script.lights;
   Scene scene;
   try {
-    scene = load_scene(script.scene, builtin);
+    scene = load_scene(script.scene, builtin, script.environment);
   } catch (const InputError& e) {
     throw InputError(script.file + ": scene: " + e.what());
   }
-  if (script.environment >= 0.0f) scene.environment = vec3(script.environment);
-  else if (script.scene.rfind("builtin:", 0) != 0) scene.environment = vec3(0.3f);
   apply_shot_animation(script, scene);
   std::vector<std::string> files = output_patterns(script);
   files.push_back(script.output.stats);

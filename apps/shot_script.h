@@ -47,7 +47,7 @@ struct ShotScript {
   std::string file;             // the script's path, as given
   std::string scene;            // builtin:NAME or a .gltf/.glb path (relative to the current directory)
   int lights = 1024;            // builtin:manylights
-  float environment = -1.0f;    // < 0: the scene's own (0.3 for glTF files, as `render`)
+  float environment = -1.0f;    // < 0: the default rule (apply_default_environment), as `render`
   RenderSettings settings;      // accumulate is always off: every frame stands alone
   int first_frame = 0, frames = 1;
   float fps = 30.0f;            // scene time of frame f is f / fps seconds

@@ -1,13 +1,25 @@
 #pragma once
-// glTF metallic-roughness BSDF: a diffuse lobe and a GGX microfacet specular lobe with Schlick Fresnel and
-// the height-correlated Smith masking-shadowing term:
-//   f_spec = s F(wo.h) D(h) G2 / (4 |n.wo| |n.wi|),  F0 = mix(0.04, base, metallic)   (Walter et al. 2007)
-//   f_diff = (1 - s) diffuse / pi + s (28 / 23 pi) diffuse (1 - F0) (1 - (1 - |n.wi|/2)^5) (1 - (1 - |n.wo|/2)^5)
-// with diffuse = base * (1 - metallic) and s the specular factor. The diffuse term couples to the specular
-// lobe as in Ashikhmin & Shirley 2000 (eq. 5), which keeps the sum reciprocal and energy-conserving at
-// grazing angles, where the glTF specification's (1 - F) weighting reflects up to 1.3x the incident energy;
-// with s = 0 it is exactly Lambert. Directions are world-space unit vectors pointing away from the surface;
-// eval returns f without the cosine. Reflection only (no transmission).
+// glTF metallic-roughness BSDF with KHR_materials_specular and KHR_materials_ior, energy-preserving:
+//   f = f_ss + f_ms + f_base
+//   f_ss   = F(wo.h) D(h) G2 / (4 |n.wo| |n.wi|)        GGX, height-correlated Smith G2 (Walter et al. 2007;
+//            F = F0 + (F90 - F0)(1 - wo.h)^5            Heitz 2014), Schlick Fresnel with
+//            F0 = mix(s F0_d, base, metallic), F90 = mix(s, 1, metallic)   (glTF 2.0 appendix B, the
+//            KHR_materials_specular "fresnel_mix": s = specular factor, F0_d = min(((ior-1)/(ior+1))^2
+//            specularColor, 1), 0.04 for the defaults)
+//   f_ms   = F_ms (1 - a(mu_o)) (1 - a(mu_i)) / (pi (1 - a_avg))
+//            the energy single scattering loses, returned as a diffuse-like lobe (Kulla & Conty 2017,
+//            "Revisiting Physically Based Shading at Imageworks"), F_ms = F_avg^2 a_avg / (1 - F_avg (1 - a_avg))
+//            per Fresnel, F_avg = F0 + (F90 - F0) / 21; a(mu) is the albedo of the lobe with F = 1
+//   f_base = (1 - metallic) base (1 - E_d(mu_o)) (1 - E_d(mu_i)) / (pi (1 - E_d_avg))
+//            the diffuse base keeps exactly the energy the dielectric's specular layer (single and multiple
+//            scattering, albedo E_d) does not reflect: Kulla & Conty's albedo scaling in its reciprocal form
+//            (the same layering OpenPBR and Autodesk Standard Surface specify).
+// A white dielectric therefore reflects all incident energy at every angle, a white metal all of it too
+// (up to the tables' interpolation, ~0.1%), and s = 0 leaves exactly Lambert. Albedo tables: ggx_albedo.h.
+// Directions are world-space unit vectors pointing away from the surface; eval returns f without the
+// cosine. Reflection only (no transmission).
+#include "engine/ggx_albedo.h"
+#include "engine/microfacet.h"
 #include "engine/math.h"
 
 namespace candela {
@@ -22,8 +34,10 @@ class Bsdf {
  public:
   Bsdf() = default;
   // n: unit shading normal on the side of wo; base colour linear RGB; roughness in [0, 1] (perceptual);
-  // specular scales the specular lobe (KHR_materials_specular's factor; 0 leaves a pure Lambert lobe).
-  Bsdf(const vec3& n, const vec3& base_color, float metallic, float roughness, float specular = 1.0f);
+  // specular: KHR_materials_specular's factor s (0 leaves a pure Lambert lobe); specular_f0: the dielectric's
+  // F0_d (specular colour and ior, see dielectric_f0).
+  Bsdf(const vec3& n, const vec3& base_color, float metallic, float roughness, float specular = 1.0f,
+       const vec3& specular_f0 = vec3(0.04f));
 
   vec3 eval(const vec3& wo, const vec3& wi) const;
   float pdf(const vec3& wo, const vec3& wi) const;
@@ -34,22 +48,25 @@ class Bsdf {
   float alpha() const { return alpha_; }
 
  private:
-  float specular_probability(float cos_o) const;
+  // Albedo of the dielectric's specular layer (single + multiple scattering) at albedo-table entry e.
+  vec3 layer_albedo(const GgxAlbedo& e) const { return d_f0_ * (e.a - e.b) + d_f90_ * e.b + d_ms_ * (1.0f - e.a); }
+  float specular_probability(const GgxAlbedo& e_o) const;
 
   Frame frame_{vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1)};
-  vec3 diffuse_{0.0f};  // base * (1 - metallic)
-  vec3 f0_{0.04f};
-  float specular_ = 1.0f;
-  float alpha_ = 1.0f;  // GGX alpha = roughness^2
+  vec3 f0_{0.04f};           // F0 of the single-scattering lobe
+  float f90_ = 1.0f;         // F90 of it
+  vec3 ms_{0.0f};            // F_ms / (pi (1 - a_avg)): f_ms = ms_ (1 - a(mu_o)) (1 - a(mu_i))
+  float ms_albedo_ = 0.0f;   // luminance of F_ms (f_ms's albedo is F_ms (1 - a(mu_o)))
+  vec3 base_{0.0f};          // (1 - metallic) base
+  vec3 base_scale_{0.0f};    // base_ / (pi (1 - E_d_avg)): f_base = base_scale_ (1 - E_d(mu_o)) (1 - E_d(mu_i))
+  vec3 d_f0_{0.0f}, d_ms_{0.0f};  // the dielectric layer's s F0_d and its F_ms
+  float d_f90_ = 0.0f;            // and its F90 = s
+  float alpha_ = 1.0f;            // GGX alpha = roughness^2
+  GgxAlbedoRow albedo_;           // a(mu), b(mu) at this roughness
 };
 
-// GGX normal distribution D(h) for cos_h = n.h (Walter et al. 2007, eq. 33).
-float ggx_d(float cos_h, float alpha);
-// Smith G1 for GGX (Heitz 2014, "Understanding the Masking-Shadowing Function", eq. 72 via Lambda).
-float ggx_lambda(float cos_theta, float alpha);
-// Samples a visible normal (Heitz 2018, "Sampling the GGX Distribution of Visible Normals") in local space.
-vec3 ggx_sample_visible_normal(const vec3& wo_local, float alpha, vec2 u);
-// Cosine-weighted hemisphere direction around +z (Malley's method, concentric disk of Shirley & Chiu 1997).
-vec3 sample_cosine_hemisphere(vec2 u);
+// F0 of the glTF dielectric: ((ior - 1) / (ior + 1))^2 times the specular colour, at most 1
+// (KHR_materials_ior, KHR_materials_specular); ior 1.5 and white give 0.04.
+vec3 dielectric_f0(float ior, const vec3& specular_color);
 
 }  // namespace candela

@@ -16,6 +16,7 @@ void GBuffer::resize(int w, int h) {
   depth.assign(n, kInfinity);
   albedo.assign(n, vec3(0.0f));
   material.assign(n, vec3(0.0f));
+  specular_f0.assign(n, vec3(0.0f));
   emission.assign(n, vec3(0.0f));
   instance.assign(n, kNoHit);
   prim.assign(n, kNoHit);
@@ -29,7 +30,7 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
                         const Camera& prev_camera, const Hit& hit, const vec3& dir, vec2 film, size_t i, GBuffer& g) {
   if (!hit.valid()) {
     g.position[i] = g.shading_normal[i] = g.geometric_normal[i] = g.albedo[i] = vec3(0.0f);
-    g.material[i] = vec3(0.0f);
+    g.material[i] = g.specular_f0[i] = vec3(0.0f);
     g.instance[i] = g.prim[i] = kNoHit;
     g.depth[i] = kInfinity;
     g.emission[i] = scene.environment;
@@ -46,6 +47,7 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   g.depth[i] = camera.view_depth(sp.position);
   g.albedo[i] = sp.base_color;
   g.material[i] = vec3(sp.roughness, sp.metallic, sp.specular);
+  g.specular_f0[i] = sp.specular_f0;
   g.emission[i] = sp.emission;
   g.instance[i] = hit.instance;
   g.prim[i] = hit.prim;

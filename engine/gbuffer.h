@@ -19,6 +19,7 @@ struct GBuffer {
   std::vector<float> depth;          // linear view depth; kInfinity where nothing was hit
   std::vector<vec3> albedo;          // base colour
   std::vector<vec3> material;         // roughness, metallic, specular factor
+  std::vector<vec3> specular_f0;      // the dielectric's F0
   std::vector<vec3> emission;
   std::vector<uint32_t> instance;    // kNoHit where nothing was hit
   std::vector<uint32_t> prim;
@@ -28,7 +29,8 @@ struct GBuffer {
   void resize(int w, int h);
   size_t size() const { return size_t(width) * height; }
   bool hit(size_t i) const { return instance[i] != kNoHit; }
-  Bsdf bsdf(size_t i) const { return Bsdf(shading_normal[i], albedo[i], material[i].y, material[i].x, material[i].z); }
+  Bsdf bsdf(size_t i) const { return Bsdf(shading_normal[i], albedo[i], material[i].y, material[i].x, material[i].z,
+                                    specular_f0[i]); }
 };
 
 struct GBufferParams {

@@ -155,7 +155,8 @@ tinygltf::Model read_model(const Context& ctx) {
 // Refuses files whose required extensions change how geometry is stored; warns about other unknown ones.
 void check_required_extensions(const Context& ctx) {
   static const char* const kSupported[] = {"KHR_texture_transform", "KHR_materials_emissive_strength",
-                                           "KHR_lights_punctual", "KHR_mesh_quantization"};
+                                           "KHR_materials_specular", "KHR_materials_ior", "KHR_lights_punctual",
+                                           "KHR_mesh_quantization"};
   static const char* const kGeometry[] = {"KHR_draco_mesh_compression", "EXT_meshopt_compression"};
   for (const std::string& name : ctx.model.extensionsRequired) {
     if (std::find(std::begin(kSupported), std::end(kSupported), name) != std::end(kSupported)) continue;
@@ -485,6 +486,36 @@ struct TextureTable {
   std::vector<int> color, data;
 };
 
+// A textureInfo object inside a material extension: what tinygltf parses into TextureInfo for core slots.
+struct ExtensionTexture {
+  int index = -1;                     // -1: absent or unusable
+  int texcoord = 0;
+  tinygltf::ExtensionMap extensions;  // KHR_texture_transform only
+  std::string problem;                // why a present textureInfo was (partly) ignored
+};
+
+// Reads textureInfo `key` of extension object `ext`.
+ExtensionTexture extension_texture(const Value* ext, const char* key) {
+  ExtensionTexture t;
+  const Value* info = ext ? member(*ext, key) : nullptr;
+  if (info == nullptr) return t;
+  std::optional<double> index = number(member(*info, "index"));
+  if (!index || *index < 0.0 || *index > 1e9 || *index != std::floor(*index)) {
+    t.problem = std::string(key) + ": index is not a non-negative integer; texture ignored";
+    return t;
+  }
+  t.index = int(*index);
+  if (const Value* tc = member(*info, "texCoord")) {
+    std::optional<double> v = number(tc);
+    if (v && *v >= 0.0 && *v <= 1e6 && *v == std::floor(*v)) t.texcoord = int(*v);
+    else t.problem = std::string(key) + ": texCoord is not a valid set index; using 0";
+  }
+  if (const Value* exts = member(*info, "extensions"))
+    if (const Value* transform = member(*exts, "KHR_texture_transform"))
+      t.extensions["KHR_texture_transform"] = *transform;
+  return t;
+}
+
 // Marks each glTF texture as used for colour (sRGB) and/or data (linear), checking material references.
 std::vector<uint8_t> texture_uses(const Context& ctx) {
   std::vector<uint8_t> uses(ctx.model.textures.size(), kUnused);
@@ -500,6 +531,9 @@ std::vector<uint8_t> texture_uses(const Context& ctx) {
     mark(m.emissiveTexture.index, kColor, where + " emissiveTexture");
     mark(m.pbrMetallicRoughness.metallicRoughnessTexture.index, kData, where + " metallicRoughnessTexture");
     mark(m.normalTexture.index, kData, where + " normalTexture");
+    const Value* specular = extension(m.extensions, "KHR_materials_specular");
+    mark(extension_texture(specular, "specularTexture").index, kData, where + " specularTexture");
+    mark(extension_texture(specular, "specularColorTexture").index, kColor, where + " specularColorTexture");
   }
   return uses;
 }
@@ -698,6 +732,36 @@ vec3 read_emission(const Context& ctx, const tinygltf::Material& m, const std::s
   return emission;
 }
 
+// KHR_materials_specular (factor, colour, their textures) and KHR_materials_ior into `mat`.
+void read_specular(const Context& ctx, const TextureTable& table, const tinygltf::Material& m,
+                   const std::string& where, Material& mat) {
+  if (const Value* ext = extension(m.extensions, "KHR_materials_specular")) {
+    const std::string at = where + " KHR_materials_specular";
+    if (std::optional<double> f = number(member(*ext, "specularFactor")))
+      mat.specular = clamped(ctx, *f, 0.0f, 1.0f, 1.0f, at + " specularFactor");
+    if (const Value* c = member(*ext, "specularColorFactor")) {
+      if (auto rgb = numbers(c, 3))
+        for (int k = 0; k < 3; ++k)
+          mat.specular_color[k] = clamped(ctx, (*rgb)[size_t(k)], 0.0f, 1e6f, 1.0f, at + " specularColorFactor");
+      else
+        ctx.warn(at + ": specularColorFactor is not three finite numbers; using white");
+    }
+    for (bool color : {false, true}) {
+      const char* key = color ? "specularColorTexture" : "specularTexture";
+      ExtensionTexture t = extension_texture(ext, key);
+      if (!t.problem.empty()) ctx.warn(at + " " + t.problem);
+      (color ? mat.specular_color_tex : mat.specular_tex) =
+          texture_ref(ctx, table, t.index, t.texcoord, t.extensions, color, at + " " + key);
+    }
+  }
+  if (const Value* ext = extension(m.extensions, "KHR_materials_ior")) {
+    std::optional<double> ior = number(member(*ext, "ior"));
+    // The schema allows ior >= 1, or exactly 0 (F0 = 1).
+    if (ior && std::isfinite(*ior) && (*ior == 0.0 || (*ior >= 1.0 && *ior <= 1e6))) mat.ior = float(*ior);
+    else if (ior) ctx.warn(where + " KHR_materials_ior: ior must be 0 or at least 1; using 1.5");
+  }
+}
+
 AlphaMode to_alpha_mode(const Context& ctx, const std::string& mode, const std::string& where) {
   if (mode == "OPAQUE" || mode.empty()) return AlphaMode::Opaque;
   if (mode == "MASK") return AlphaMode::Mask;
@@ -737,6 +801,7 @@ Material convert_material(const Context& ctx, const TextureTable& table, size_t 
   if (std::isfinite(m.normalTexture.scale)) mat.normal_scale = float(m.normalTexture.scale);
   else ctx.warn(where + ": normalTexture scale is not finite; using 1");
 
+  read_specular(ctx, table, m, where, mat);
   mat.alpha_mode = to_alpha_mode(ctx, m.alphaMode, where);
   mat.alpha_cutoff = clamped(ctx, m.alphaCutoff, 0.0f, kInfinity, 0.5f, where + " alphaCutoff");
   mat.double_sided = m.doubleSided;

@@ -22,6 +22,10 @@ struct Material {
   float metallic = 0.0f, roughness = 1.0f;
   TextureRef metallic_roughness_tex;  // G = roughness, B = metallic
   float specular = 1.0f;              // KHR_materials_specular factor (0 = pure Lambert diffuse)
+  TextureRef specular_tex;            // A = specular factor multiplier
+  vec3 specular_color{1.0f};          // KHR_materials_specular colour factor (scales the dielectric F0)
+  TextureRef specular_color_tex;      // RGB (sRGB) multiplies it
+  float ior = 1.5f;                   // KHR_materials_ior: dielectric F0 = ((ior - 1) / (ior + 1))^2
   TextureRef normal_tex;
   float normal_scale = 1.0f;
   vec3 emission{0.0f};                // emissiveFactor * KHR_materials_emissive_strength

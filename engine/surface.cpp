@@ -76,6 +76,10 @@ SurfacePoint surface_at(const Scene& scene, uint32_t instance, uint32_t prim, ve
   sp.metallic = m.metallic;
   sp.roughness = m.roughness;
   sp.specular = m.specular;
+  if (m.specular_tex.valid()) sp.specular *= lookup(scene, m.specular_tex, uv0, uv1).a;
+  vec3 specular_color = m.specular_color;
+  if (m.specular_color_tex.valid()) specular_color *= vec3(lookup(scene, m.specular_color_tex, uv0, uv1));
+  sp.specular_f0 = dielectric_f0(m.ior, specular_color);
   if (m.metallic_roughness_tex.valid()) {
     vec4 mr = lookup(scene, m.metallic_roughness_tex, uv0, uv1);
     sp.roughness *= mr.y;

@@ -13,10 +13,11 @@ struct SurfacePoint {
   vec3 shading_normal{0.0f, 0.0f, 1.0f};    // faces wo (normal map applied)
   vec3 base_color{0.0f};
   float metallic = 0.0f, roughness = 1.0f, specular = 1.0f;
+  vec3 specular_f0{0.04f};                  // the dielectric's F0 (ior, specular colour)
   vec3 emission{0.0f};                      // radiance leaving towards wo
   uint32_t instance = kNoHit, prim = kNoHit;
   bool front_face = true;                   // wo is on the side the triangle's winding faces
-  Bsdf bsdf() const { return Bsdf(shading_normal, base_color, metallic, roughness, specular); }
+  Bsdf bsdf() const { return Bsdf(shading_normal, base_color, metallic, roughness, specular, specular_f0); }
 };
 
 // World-space corners of a triangle of an instance.

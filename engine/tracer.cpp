@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "engine/check.h"
+#include "engine/rng.h"
 
 namespace candela {
 
@@ -55,28 +56,54 @@ Hit Tracer::packet_hit(const RayPacket16& packet, int lane) const {
   return h;
 }
 
-// What the alpha filter needs of a masked mesh: its UVs, triangles and the material's alpha inputs.
+// What the alpha filter needs of a MASK or BLEND mesh: its UVs, triangles and the material's alpha inputs.
 struct AlphaMask {
   const Mesh* mesh;
   const Material* material;
   const Texture* texture;  // null: alpha is the base colour factor's alone
 };
 
-// Embree filter (intersection and occlusion): rejects hits where base colour alpha < alpha cutoff.
-static void alpha_mask_filter(const RTCFilterFunctionNArguments* args) {
+// Base colour alpha (factor times texture) at hit i of a filter call.
+static float hit_alpha(const AlphaMask& mask, const RTCFilterFunctionNArguments* args, unsigned i) {
+  float alpha = mask.material->base_color.a;
+  if (mask.texture && !mask.mesh->uv0.empty()) {
+    const uvec3& tri = mask.mesh->triangles[RTCHitN_primID(args->hit, args->N, i)];
+    float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    const std::vector<vec2>& uv = mask.material->base_color_tex.texcoord == 1 && !mask.mesh->uv1.empty()
+                                      ? mask.mesh->uv1 : mask.mesh->uv0;
+    vec2 st = uv[tri.x] * (1.0f - u - v) + uv[tri.y] * u + uv[tri.z] * v;
+    alpha *= mask.texture->sample(mask.material->base_color_tex.apply(st)).a;
+  }
+  return alpha;
+}
+
+// A uniform number in [0, 1) that is a hash of ray i and the triangle it hit: the same ray through the same
+// triangle always gets the same one (a re-traced shadow ray gives the same verdict, whatever the thread
+// count), other rays get independent ones.
+static float coverage_uniform(const RTCFilterFunctionNArguments* args, unsigned i) {
+  RTCRayN* ray = args->ray;
+  const unsigned n = args->N;
+  float coords[6] = {RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i),
+                     RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)};
+  uint64_t h = mix64(uint64_t(RTCHitN_primID(args->hit, n, i)) << 32 | RTCHitN_instID(args->hit, n, i, 0));
+  for (float c : coords) {
+    uint32_t bits;
+    std::memcpy(&bits, &c, 4);
+    h = mix64(h ^ bits);
+  }
+  return float(h >> 40) * 0x1p-24f;
+}
+
+// Embree filter (intersection and occlusion): MASK rejects hits where alpha < cutoff; BLEND keeps a hit with
+// probability alpha (stochastic coverage: on average a surface of alpha 0.5 stops half the rays).
+static void alpha_filter(const RTCFilterFunctionNArguments* args) {
   const auto* mask = static_cast<const AlphaMask*>(args->geometryUserPtr);
+  const bool blend = mask->material->alpha_mode == AlphaMode::Blend;
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    float alpha = mask->material->base_color.a;
-    if (mask->texture && !mask->mesh->uv0.empty()) {
-      const uvec3& tri = mask->mesh->triangles[RTCHitN_primID(args->hit, args->N, i)];
-      float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
-      const std::vector<vec2>& uv = mask->material->base_color_tex.texcoord == 1 && !mask->mesh->uv1.empty()
-                                        ? mask->mesh->uv1 : mask->mesh->uv0;
-      vec2 st = uv[tri.x] * (1.0f - u - v) + uv[tri.y] * u + uv[tri.z] * v;
-      alpha *= mask->texture->sample(mask->material->base_color_tex.apply(st)).a;
-    }
-    if (alpha < mask->material->alpha_cutoff) args->valid[i] = 0;
+    float alpha = hit_alpha(*mask, args, i);
+    bool keep = blend ? coverage_uniform(args, i) < alpha : alpha >= mask->material->alpha_cutoff;
+    if (!keep) args->valid[i] = 0;
   }
 }
 
@@ -94,12 +121,12 @@ RTCGeometry Tracer::new_triangle_geometry(const Scene& scene, int mesh_index, co
                                                           mesh.triangles.size()));
   std::memcpy(idx, mesh.triangles.data(), mesh.triangles.size() * sizeof(uvec3));
   const Material& material = scene.materials[mesh.material];
-  if (material.alpha_mode == AlphaMode::Mask) {
+  if (material.alpha_mode != AlphaMode::Opaque) {
     const Texture* tex = material.base_color_tex.valid() ? &scene.textures[material.base_color_tex.texture] : nullptr;
     alpha_masks_.push_back(std::make_unique<AlphaMask>(AlphaMask{&mesh, &material, tex}));
     rtcSetGeometryUserData(g, alpha_masks_.back().get());
-    rtcSetGeometryIntersectFilterFunction(g, alpha_mask_filter);
-    rtcSetGeometryOccludedFilterFunction(g, alpha_mask_filter);
+    rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
+    rtcSetGeometryOccludedFilterFunction(g, alpha_filter);
   }
   rtcCommitGeometry(g);
   return g;

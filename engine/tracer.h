@@ -6,9 +6,9 @@
 // share one BVH (overlapping per-instance BVHs would make every ray visit each of them); meshes used by
 // several instances, and animated instances, get a per-mesh BVH built once. The top level holds the
 // static BVH as one instance plus the other instances, and is the only part re-committed per frame.
-// Alpha-masked materials (glTF alphaMode MASK) reject hits below their cutoff in an Embree filter
-// function; BLEND is traced as opaque. The Tracer reads the Scene's meshes for that: the Scene must
-// outlive it.
+// Alpha-tested materials reject hits in an Embree filter function: glTF alphaMode MASK below its cutoff,
+// BLEND with probability 1 - alpha (stochastic coverage, for camera, shadow and path rays alike). The
+// Tracer reads the Scene's meshes for that: the Scene must outlive it.
 #include <embree3/rtcore.h>
 
 #include <cstdint>

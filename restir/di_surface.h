@@ -17,7 +17,8 @@ struct DiSurface {
   uint32_t shading_normal = 0;    // octahedral
   uint32_t geometric_normal = 0;  // octahedral
   uint32_t albedo = 0;            // sqrt-encoded RGB, 8 bits each
-  uint32_t material = 0;          // roughness, metallic, specular factor, 8 bits each
+  uint32_t material = 0;          // roughness, metallic, specular factor, sqrt of the dielectric F0's
+                                  // largest component (grey F0), 8 bits each
 
   bool hit() const { return depth < kInfinity; }
   vec3 shading_n() const { return oct_decode(shading_normal); }

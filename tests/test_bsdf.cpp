@@ -1,5 +1,5 @@
-// BSDF proofs: sampling matches pdf (chi-square), Lambert integrates to its albedo, GGX never creates
-// energy, and f is reciprocal.
+// BSDF proofs: sampling matches pdf (chi-square), Lambert integrates to its albedo, white materials pass
+// the furnace test (no energy lost or created), the albedo table is right, and f is reciprocal.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -98,38 +98,112 @@ TEST(Bsdf, LambertFurnaceIntegratesToOne) {
   }
 }
 
-// A white GGX metal reflects at most all energy (Smith masking loses some at high roughness).
-TEST(Bsdf, GgxEnergyAtMostOne) {
-  for (float roughness : {0.2f, 0.5f, 1.0f})
-    for (float ct : {0.1f, 0.5f, 1.0f}) {
-      Bsdf metal(vec3(0, 0, 1), vec3(1.0f), 1.0f, roughness);
-      // Importance-sampled albedo: mean of f cos / pdf over the BSDF's own samples.
-      Rng rng(11, uint64_t(roughness * 100 + ct * 10));
-      const int n = 200000;
-      double sum = 0.0, sum2 = 0.0;
+// Importance-sampled directional albedo: mean of f cos / pdf over sample(); returns mean and standard error.
+std::pair<double, double> sampled_albedo(const Bsdf& bsdf, const vec3& wo, int n, uint64_t seed) {
+  Rng rng(seed, 2);
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    BsdfSample s;
+    if (!bsdf.sample(wo, vec2(rng.next_float(), rng.next_float()), rng.next_float(), s)) continue;
+    double v = luminance(s.f) * s.wi.z / s.pdf;
+    sum += v;
+    sum2 += v * v;
+  }
+  double mean = sum / n;
+  return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n)};
+}
+
+// White furnace over angles (cos 0.05 .. 1) and roughness (0.05 .. 1), 400,000 samples each (fixed seeds):
+// a white dielectric reflects between 0.97 and 1 of the incident energy, a white metal too (its lost
+// multiple scattering is returned), and none more than 1 + 3 standard errors + 0.002. The model conserves
+// energy exactly up to its albedo table, so a bound of 1 + one standard error would fail about one case
+// in six by chance; 3 standard errors make a false failure a 0.13% event per case, and 0.002 is the
+// table's interpolation error (GgxAlbedo.TableMatchesIntegral; ~0.001 measured away from grazing angles).
+// The uniformly sampled albedo agrees with the importance-sampled one within 4 combined standard errors (a
+// check of sample() against eval() and pdf() that needs no chi-square binning).
+TEST(Bsdf, WhiteFurnace) {
+  constexpr double kTableTolerance = 0.002;
+  for (float metallic : {0.0f, 1.0f})
+    for (float roughness : {0.05f, 0.1f, 0.25f, 0.5f, 0.75f, 1.0f})
+      for (float ct : {0.05f, 0.1f, 0.2f, 0.4f, 0.7f, 1.0f}) {
+        Bsdf b(vec3(0, 0, 1), vec3(1.0f), metallic, roughness);
+        vec3 wo = direction(ct, 0.0f);
+        uint64_t seed = uint64_t(roughness * 1000 + ct * 10) + (metallic > 0.0f ? 100000 : 0);
+        auto [mean, err] = sampled_albedo(b, wo, 400000, seed);
+        SCOPED_TRACE(::testing::Message() << "metallic " << metallic << " roughness " << roughness << " cos " << ct
+                                          << ": albedo " << mean << " +- " << err);
+        EXPECT_GE(mean, 0.97);
+        EXPECT_LE(mean, 1.0 + 3.0 * err + kTableTolerance);
+        if (roughness >= 0.25f) {  // uniform sampling cannot resolve the peak of smoother lobes
+          auto [uniform_mean, uniform_err] = albedo(b, wo, 400000, seed + 1);
+          EXPECT_NEAR(mean, uniform_mean, 4.0 * std::hypot(err, uniform_err));
+        }
+      }
+}
+
+// The roughest white metal, the case the issue names: at least 0.95 at every angle.
+TEST(Bsdf, RoughWhiteMetalKeepsItsEnergy) {
+  Bsdf metal(vec3(0, 0, 1), vec3(1.0f), 1.0f, 1.0f);
+  for (float ct : {0.05f, 0.3f, 1.0f}) {
+    auto [mean, err] = sampled_albedo(metal, direction(ct, 0.0f), 400000, 21);
+    EXPECT_GE(mean, 0.95) << "cos " << ct;
+  }
+}
+
+// specularFactor 0 (KHR_materials_specular) leaves exactly Lambert: f = base / pi, pdf = cos / pi.
+TEST(Bsdf, SpecularFactorZeroIsExactlyLambert) {
+  Rng rng(5, 5);
+  for (int i = 0; i < 1000; ++i) {
+    vec3 base(rng.next_float(), rng.next_float(), rng.next_float());
+    Bsdf b(vec3(0, 0, 1), base, 0.0f, rng.next_float(), 0.0f, vec3(rng.next_float()));
+    vec3 wo = direction(rng.next_float(), 2.0f * kPi * rng.next_float());
+    vec3 wi = direction(rng.next_float(), 2.0f * kPi * rng.next_float());
+    EXPECT_EQ(b.eval(wo, wi), base * kInvPi);
+    EXPECT_FLOAT_EQ(b.pdf(wo, wi), wi.z * kInvPi);
+  }
+}
+
+// F0 from the ior and the specular colour (KHR_materials_ior, KHR_materials_specular).
+TEST(Bsdf, DielectricF0FromIorAndSpecularColour) {
+  EXPECT_NEAR(dielectric_f0(1.5f, vec3(1.0f)).x, 0.04f, 1e-7f);
+  EXPECT_NEAR(dielectric_f0(1.33f, vec3(1.0f)).x, 0.0200593f, 1e-6f);
+  EXPECT_EQ(dielectric_f0(0.0f, vec3(1.0f)), vec3(1.0f));           // ior 0: total reflection
+  vec3 clamped = dielectric_f0(1.5f, vec3(0.0f, 1.0f, 100.0f));  // at most 1
+  EXPECT_EQ(clamped.x, 0.0f);
+  EXPECT_NEAR(clamped.y, 0.04f, 1e-7f);
+  EXPECT_EQ(clamped.z, 1.0f);
+}
+
+// Normal incidence reflectance of the specular lobe follows F0: a smooth dielectric of ior 1.33 reflects
+// about half of what one of ior 1.5 reflects (0.020 against 0.040) where the specular lobe dominates.
+TEST(Bsdf, IorScalesTheSpecularLobe) {
+  vec3 wo = direction(1.0f, 0.0f), wi = direction(0.999f, kPi);
+  Bsdf glass(vec3(0, 0, 1), vec3(0.0f), 0.0f, 0.1f, 1.0f, dielectric_f0(1.5f, vec3(1.0f)));
+  Bsdf water(vec3(0, 0, 1), vec3(0.0f), 0.0f, 0.1f, 1.0f, dielectric_f0(1.33f, vec3(1.0f)));
+  EXPECT_NEAR(water.eval(wo, wi).x / glass.eval(wo, wi).x, 0.0200593 / 0.04, 0.01);
+}
+
+// The albedo table against an independent integral of the F = 1 lobe (uniform hemisphere sampling of
+// D G2 / (4 cos_o cos_i) cos_i, 1,000,000 samples) between its grid points: within 4 standard errors plus
+// the table's interpolation tolerance of 0.002.
+TEST(GgxAlbedo, TableMatchesIntegral) {
+  for (float roughness : {0.3f, 0.55f, 1.0f})
+    for (float ct : {0.07f, 0.45f, 0.9f}) {
+      float alpha = ggx_alpha(roughness);
       vec3 wo = direction(ct, 0.0f);
+      Rng rng(17, uint64_t(roughness * 100 + ct * 10));
+      const int n = 1000000;
+      double sum = 0.0, sum2 = 0.0;
       for (int i = 0; i < n; ++i) {
-        BsdfSample s;
-        if (!metal.sample(wo, vec2(rng.next_float(), rng.next_float()), rng.next_float(), s)) continue;
-        double v = luminance(s.f) * s.wi.z / s.pdf;
+        vec3 wi = direction(rng.next_float(), 2.0f * kPi * rng.next_float());
+        vec3 h = glm::normalize(wo + wi);
+        double g2 = 1.0 / (1.0 + ggx_lambda(ct, alpha) + ggx_lambda(wi.z, alpha));
+        double v = ggx_d(h.z, alpha) * g2 / (4.0 * ct) * 2.0 * kPi;
         sum += v;
         sum2 += v * v;
       }
       double mean = sum / n, err = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
-      EXPECT_LE(mean, 1.0 + 4.0 * err) << "roughness " << roughness << " cos " << ct;
-      // The same integral by uniform sampling must agree (a second check of sample/pdf consistency).
-      auto [uniform_mean, uniform_err] = albedo(metal, wo, n, 12);
-      EXPECT_NEAR(mean, uniform_mean, 4.0 * std::hypot(err, uniform_err)) << "roughness " << roughness << " cos " << ct;
-    }
-}
-
-// The full dielectric mix (Lambert + GGX with Fresnel weighting) of a white base stays below 1.
-TEST(Bsdf, WhiteDielectricEnergyAtMostOne) {
-  for (float roughness : {0.3f, 1.0f})
-    for (float ct : {0.05f, 0.5f, 1.0f}) {
-      Bsdf b(vec3(0, 0, 1), vec3(1.0f), 0.0f, roughness);
-      auto [mean, err] = albedo(b, direction(ct, 0.0f), 400000, 5);
-      EXPECT_LE(mean, 1.0 + 4.0 * err) << "roughness " << roughness << " cos " << ct;
+      EXPECT_NEAR(GgxAlbedoRow(roughness).at(ct).a, mean, 4.0 * err + 0.002) << "roughness " << roughness << " cos " << ct;
     }
 }
 

@@ -109,17 +109,19 @@ TEST_F(Convergence, RestirDiFallsAsOneOverNBeyondItsHistory) {
   }
 }
 
-// Equal samples, one 1-spp frame (the real-time case) and 4 accumulated frames: ReSTIR DI (pairwise) has
-// lower relMSE than the light tree's direct estimator (measured 0.130 vs 0.294 and 0.076 vs 0.088). With
+// Equal samples, one 1-spp frame (the real-time case) and 2 accumulated frames: ReSTIR DI (pairwise) has
+// lower relMSE than the light tree's direct estimator (measured 0.174 vs 0.391 and 0.132 vs 0.185). With
 // more accumulated frames the tree wins (its samples are independent; ReSTIR's frames share history):
-// the crossover is printed, not tested.
+// the crossover is printed, not tested. It lies between 2 and 4 frames since the energy-preserving BSDF
+// (4 frames: 0.104 vs 0.098); with the earlier BSDF, which darkened grazing diffuse light, it lay between
+// 4 and 8 (4 frames: 0.076 vs 0.088).
 TEST_F(Convergence, RestirDiBeatsTreeAtEqualSamples) {
   std::vector<ConvergePoint> restir = run("restir-di-pairwise", 64), tree = run("direct-tree", 64);
   for (size_t i = 0; i < restir.size(); ++i)
     std::printf("N = %2d: relMSE restir-di-pairwise %.3e, direct-tree %.3e (ratio %.2f)\n", restir[i].samples,
                 restir[i].error.rel_mse, tree[i].error.rel_mse, restir[i].error.rel_mse / tree[i].error.rel_mse);
   EXPECT_LT(restir[0].error.rel_mse, 0.7 * tree[0].error.rel_mse) << "one frame";
-  EXPECT_LT(restir[2].error.rel_mse, tree[2].error.rel_mse) << "four frames";
+  EXPECT_LT(restir[1].error.rel_mse, tree[1].error.rel_mse) << "two frames";
 }
 
 }  // namespace

@@ -39,7 +39,8 @@ size_t count_lights(const Scene& scene, PunctualType type) {
 }
 
 std::vector<const TextureRef*> texture_refs(const Material& m) {
-  return {&m.base_color_tex, &m.metallic_roughness_tex, &m.normal_tex, &m.emissive_tex};
+  return {&m.base_color_tex, &m.metallic_roughness_tex, &m.normal_tex, &m.emissive_tex, &m.specular_tex,
+          &m.specular_color_tex};
 }
 
 bool has_warning_containing(const LoadReport& report, const std::string& text) {

@@ -1,0 +1,39 @@
+#pragma once
+// Directional albedo of the single-scattering GGX lobe, tabulated once per process, for the energy
+// bookkeeping of the BSDF (Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks",
+// SIGGRAPH course: albedo scaling of the base layer and the multiple-scattering lobe).
+//
+// For a Schlick Fresnel F(c) = F0 + (F90 - F0) (1 - c)^5 the albedo of the lobe is linear in F0 and F90:
+//   E(mu) = F0 (a(mu) - b(mu)) + F90 b(mu),  a = int f1 cos dwi,  b = int (1 - wo.h)^5 f1 cos dwi,
+// where f1 = D G2 / (4 |n.wo| |n.wi|) is the lobe with F = 1 and mu = n.wo. The table stores (a, b) on a
+// regular grid of sqrt(mu) (dense at grazing angles, where smooth lobes change fast) and perceptual
+// roughness r (alpha = r^2), read with bilinear interpolation; the cosine-weighted averages
+// a_avg = 2 int a(mu) mu dmu (and b_avg) are integrals of that interpolant, exact up to float rounding, so
+// a lobe (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)) integrates to exactly 1 - E(mu_o).
+// The table is computed at build time (ggx_albedo_gen.cpp); a lookup is four 8-byte loads and a sqrt.
+#include "engine/math.h"
+
+namespace candela {
+
+struct GgxAlbedo {
+  float a = 0.0f;  // albedo with F = 1
+  float b = 0.0f;  // the (1 - wo.h)^5 share of it
+};
+
+// Lookups along one roughness: the two table rows that bracket it and their weight. Cheap to build;
+// Bsdf keeps one per surface.
+class GgxAlbedoRow {
+ public:
+  GgxAlbedoRow() : GgxAlbedoRow(1.0f) {}
+  explicit GgxAlbedoRow(float roughness);
+  GgxAlbedo at(float cos_theta) const;  // directional albedo for mu = cos_theta in [0, 1]
+  GgxAlbedo average() const;            // cosine-weighted hemispherical average (a_avg, b_avg)
+
+ private:
+  const float* row0_ = nullptr;  // (a, b) pairs of the table row of the lower roughness
+  const float* row1_ = nullptr;  // of the upper roughness
+  float t_ = 0.0f;               // weight of row1_
+  GgxAlbedo avg_;
+};
+
+}  // namespace candela
