@@ -128,11 +128,12 @@ vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams&
 }
 
 // Stage: adds params.spp path samples per pixel into `sum` (running sum of radiance; divide by the total
-// sample count to display). Reads the scene view; traces about spp * (1 + 2 * depth) rays per pixel.
+// sample count to display); a non-finite sample is dropped and counted in `non_finite`. Reads the scene
+// view; traces about spp * (1 + 2 * depth) rays per pixel.
 // Randomness is keyed on (seed, pixel, frame, sample), so the result does not depend on thread count.
 template <LightSampler S>
 void path_trace(const SceneView& view, const S& sampler, const PathTracerParams& params, int frame, Image& sum,
-                RayCounter& rays) {
+                RayCounter& rays, Counter& non_finite) {
   for_each_pixel(view.camera.width(), view.camera.height(), rays, [&](size_t pixel, int x, int y) {
     uint64_t traced = 0;
     vec3 acc(0.0f);
@@ -143,6 +144,7 @@ void path_trace(const SceneView& view, const S& sampler, const PathTracerParams&
       PathStart start{Ray{view.camera.position(), view.camera.direction(film.x, film.y), 0.0f, kInfinity}};
       vec3 L = trace_path(view, sampler, params, start, rng, traced);
       if (is_finite(L)) acc += L;
+      else non_finite.add(1);
     }
     sum.pixels[pixel] += acc;
     return traced;
