@@ -977,7 +977,8 @@ std::optional<CameraDesc> node_camera(const Context& ctx, const PlacedNode& plac
 std::vector<std::vector<int>> convert_nodes(const Context& ctx, const std::vector<PlacedNode>& placed_nodes, Scene& scene) {
   std::vector<std::vector<int>> instances_of(ctx.model.nodes.size());
   std::map<std::pair<int, int>, int> mesh_of;  // (glTF mesh, primitive) -> candela mesh, -1 = skipped
-  std::vector<Bounds3> mesh_bounds;             // per candela mesh, in object space
+  std::vector<Bounds3> mesh_bounds;             // per candela mesh (this function alone adds meshes), object space
+  CHECK(scene.meshes.empty());
   int default_material = -1;
   auto get_default_material = [&]() {
     if (default_material < 0) {
