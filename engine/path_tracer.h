@@ -3,6 +3,7 @@
 // importance sampling (Veach 1997, power heuristic, beta = 2), Russian roulette after three bounces.
 // It is the ground truth of every convergence test, so it favours clarity over speed.
 // The light-selection policy is a template parameter (engine/light_sampler.h).
+#include <limits>
 #include <optional>
 
 #include "engine/camera.h"
@@ -71,8 +72,9 @@ struct PathStart {
 };
 
 // Radiance arriving along start.ray: NEE with the light sampler and BSDF sampling combined by the power
-// heuristic, Russian roulette, at most params.max_depth bounces counted from the camera. `first_hit`, if
-// given, receives the surface the ray hits first (stays empty on a miss).
+// heuristic, Russian roulette, at most params.max_depth bounces counted from the camera; NaN when the
+// path's throughput overflowed (callers drop and count non-finite results). `first_hit`, if given,
+// receives the surface the ray hits first (stays empty on a miss).
 template <LightSampler S>
 vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams& params, const PathStart& start,
                 Rng& rng, uint64_t& rays, std::optional<SurfacePoint>* first_hit = nullptr) {
@@ -122,7 +124,8 @@ vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams&
       if (rng.next_float() >= survive) break;
       beta /= survive;
     }
-    if (!is_finite(beta)) break;
+    // A throughput that overflowed makes the whole path invalid: NaN, which the caller drops and counts.
+    if (!is_finite(beta)) return vec3(std::numeric_limits<float>::quiet_NaN());
   }
   return L;
 }
