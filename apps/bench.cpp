@@ -23,12 +23,14 @@ namespace candela {
 void add_bench_options(CLI::App& app, BenchOptions& o) {
   app.add_option("--suite", o.suite, "rays: primary/shadow ray throughput per scene; samplers: light selection cost and light tree build/refit; "
                  "restir: a ReSTIR DI frame and its stages next to its own rays traced alone (use --width 640 --height 360); "
-                 "denoise: cross-bilateral and SVGF time per frame at 640x360 and 1280x720")
-      ->check(CLI::IsMember({"rays", "samplers", "restir", "denoise"}))->capture_default_str();
+                 "denoise: cross-bilateral and SVGF time per frame at 640x360 and 1280x720; soak: --frames frames of "
+                 "restir + svgf on builtin:city with an orbiting camera, counting non-finite pixels and reporting VmRSS")
+      ->check(CLI::IsMember({"rays", "samplers", "restir", "denoise", "soak"}))->capture_default_str();
   app.add_option("--scenes", o.scenes, "Scenes to measure (default: builtin:cornell builtin:manylights builtin:city "
                                        "and StainedGlassLamp from ../shared/scenes when present)");
-  app.add_option("--width", o.width, "Image width of the ray batches")->check(CLI::Range(16, 16384))->capture_default_str();
-  app.add_option("--height", o.height, "Image height of the ray batches")->check(CLI::Range(16, 16384))->capture_default_str();
+  app.add_option("--width", o.width, "Image width (default 1280; soak: 64)")->check(CLI::Range(16, 16384));
+  app.add_option("--height", o.height, "Image height (default 720; soak: 36)")->check(CLI::Range(16, 16384));
+  app.add_option("--frames", o.soak_frames, "soak: frames to render")->check(CLI::Range(1, 100000000))->capture_default_str();
   app.add_option("--threads", o.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--min-time", o.min_time, "Minimum seconds per benchmark repetition")->check(CLI::Range(0.01, 600.0))->capture_default_str();
   app.add_option("--repetitions", o.repetitions, "Repetitions; the summary quotes medians")->check(CLI::Range(1, 100))->capture_default_str();
@@ -164,7 +166,12 @@ BenchResults run_registered_benchmarks(const BenchOptions& o) {
   return results;
 }
 
-int run_bench(const BenchOptions& o) {
+int run_bench(const BenchOptions& options) {
+  // Image size: the suite's default unless given.
+  BenchOptions o = options;
+  if (o.width == 0) o.width = o.suite == "soak" ? 64 : 1280;
+  if (o.height == 0) o.height = o.suite == "soak" ? 36 : 720;
+  if (o.suite == "soak") return run_soak_bench(o);
   if (o.suite == "samplers") return run_sampler_bench(o);
   if (o.suite == "restir") return run_restir_bench(o);
   if (o.suite == "denoise") return run_denoise_bench(o);

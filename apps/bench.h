@@ -10,9 +10,10 @@ namespace candela {
 
 struct BenchOptions {
   std::string suite = "rays";       // rays: ray throughput; samplers: light selection cost; restir: ReSTIR DI frame;
-                                    // denoise: denoiser time
+                                    // denoise: denoiser time; soak: a long restir + svgf run, NaN/Inf and memory
   std::vector<std::string> scenes;  // empty: the built-in scenes plus StainedGlassLamp when ../shared exists
-  int width = 1280, height = 720;
+  int width = 0, height = 0;        // 0: the suite's default (1280x720; soak: 64x36)
+  int soak_frames = 10000;          // soak: frames to render
   int threads = 0;
   double min_time = 0.5;
   int repetitions = 3;
@@ -35,6 +36,8 @@ int run_sampler_bench(const BenchOptions& options);
 int run_denoise_bench(const BenchOptions& options);
 // The restir suite (bench_restir.cpp).
 int run_restir_bench(const BenchOptions& options);
+// The soak suite (bench_soak.cpp); exits 1 when a non-finite pixel or a dropped NaN/Inf value was seen.
+int run_soak_bench(const BenchOptions& options);
 
 // Shared by the suites: the default scenes (built-ins, plus StainedGlassLamp when ../shared exists), a
 // short name for a scene source, and primary rays through pixel centres in 4x4 packets through

@@ -1,5 +1,5 @@
 // `candela`: one binary, subcommands `render`, `view`, `converge`, `compare` and `bench`. Bad command lines and bad
-// input files print a message naming the option or file and exit non-zero.
+// input files print one `error:` line naming the option or file and exit with kBadInputExit (2).
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
@@ -364,10 +364,14 @@ int main(int argc, char** argv) {
   CLI::App* bench = app.add_subcommand("bench", "Ray throughput benchmarks (Google Benchmark)");
   add_bench_options(*bench, b);
 
+  // --help prints the usage and exits 0; any other parse error is bad input: one `error:` line naming
+  // the option (CLI11's message), exit kBadInputExit.
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    std::fprintf(stderr, "error: %s (see candela --help)\n", e.what());
+    return kBadInputExit;
   }
   int threads = render->parsed() || converge->parsed() ? r.threads : view->parsed() ? view_frame.threads : b.threads;
   std::unique_ptr<tbb::global_control> limit;
@@ -388,7 +392,7 @@ int main(int argc, char** argv) {
     return run_bench(b);
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+    return kBadInputExit;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "error: out of memory (try a smaller --width/--height or scene)\n");
     return 1;

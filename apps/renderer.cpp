@@ -126,7 +126,7 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, 
   params.max_depth = settings_.method == Method::Direct ? 1 : settings_.max_depth;
   params.seed = settings_.seed;
   params.jitter = settings_.jitter;
-  std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays()); }, sampler_);
+  std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays(), timer.non_finite()); }, sampler_);
 }
 
 DiDomain Renderer::current_domain() const {
@@ -167,7 +167,8 @@ void Renderer::restir_pass(const SceneView& view, int frame_index, int pass, Fra
   params.seed = mix64(settings_.seed ^ 0x6769);
   {
     StageTimer timer(stats, "gi_samples");
-    std::visit([&](const auto& sampler) { gi_initial_samples(view, sampler, gbuffer_, current, params, key, gi_.initial, timer.rays()); },
+    std::visit([&](const auto& sampler) { gi_initial_samples(view, sampler, gbuffer_, current, params, key, gi_.initial, timer.rays(),
+                                                           timer.non_finite()); },
                sampler_);
   }
   DiReuseParams reuse = settings_.gi_reuse;
@@ -204,7 +205,7 @@ void Renderer::reuse_and_shade(const SceneView& view, const std::string& prefix,
     StageTimer timer(stats, prefix + "_shade");
     std::swap(chain.visibility, chain.prev_visibility);
     DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr, &chain.prev_visibility};
-    di_shade(view, gbuffer_, *result, unsampled, visibility, chain.visibility, sum_, timer.rays());
+    di_shade(view, gbuffer_, *result, unsampled, visibility, chain.visibility, sum_, timer.rays(), timer.non_finite());
   }
   chain.history = *result;
 }

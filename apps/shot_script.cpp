@@ -11,6 +11,7 @@
 
 #include "apps/settings_names.h"
 #include "engine/check.h"
+#include "engine/input_limits.h"
 
 namespace candela {
 
@@ -78,8 +79,11 @@ class ObjectReader {
   vec3 vector3(const json& v, const std::string& place) const {
     if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
       fail_at(place, "expected an array of 3 numbers, got " + v.dump());
-    vec3 out(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
+    const vec3 out(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
     if (!is_finite(out)) fail_at(place, "not finite");
+    // Positions, targets and translations: the coordinate limit where ray arithmetic stays finite.
+    if (max_component(glm::abs(out)) > kMaxCoordinate)
+      fail_at(place, v.dump() + " is beyond the limit of " + format(kMaxCoordinate) + " (see engine/input_limits.h)");
     return out;
   }
   // Rejects keys nobody read (typos would otherwise be silently ignored).
@@ -127,6 +131,7 @@ json parse_file(const std::string& path) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
+  check_json_nesting(text, path);
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
@@ -273,7 +278,7 @@ void read_light_power(ObjectReader& parent, ShotScript& s) {
     keys.interpolation = r.named("interpolation", interpolation_names(), Interpolation::Linear);
     read_keys(r, keys.frames, [&](ObjectReader& k) {
       if (!k.has("scale")) k.fail("scale", "missing");
-      keys.scale.push_back(float(k.number("scale", 1e-6, 1e6, 1.0)));
+      keys.scale.push_back(float(k.number("scale", 1.0 / kMaxPowerScale, kMaxPowerScale, 1.0)));
     });
     s.light_power.push_back(std::move(keys));
   });

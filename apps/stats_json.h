@@ -1,5 +1,6 @@
 #pragma once
-// Frame statistics as JSON (per frame: total and per-stage milliseconds and ray counts).
+// Frame statistics as JSON (per frame: total and per-stage milliseconds, ray counts and dropped non-finite
+// values).
 #include <string>
 #include <vector>
 

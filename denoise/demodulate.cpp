@@ -6,7 +6,7 @@ namespace candela {
 
 static vec3 albedo_floor(const vec3& albedo) { return glm::max(albedo, vec3(kMinAlbedo)); }
 
-void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, ColorPlanes& illumination) {
+void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, ColorPlanes& illumination, Counter& non_finite) {
   CHECK(noisy.width == g.width && noisy.height == g.height && guides.width == g.width && guides.height == g.height);
   if (illumination.width != g.width || illumination.height != g.height) illumination.resize(g.width, g.height);
   for_each_row(g.height, [&](int y) {
@@ -14,6 +14,7 @@ void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, Colo
       vec3 e = guides.filtered[i] ? (noisy.pixels[i] - g.emission[i]) / albedo_floor(g.albedo[i])
                                   : g.hit(i) ? noisy.pixels[i] : vec3(0.0f);
       illumination.set(i, is_finite(e) ? e : vec3(0.0f));
+      if (!is_finite(e)) non_finite.add(1);
     }
   });
 }
@@ -35,7 +36,7 @@ void prepare_frame(const GBuffer& g, const Image& noisy, Guides& guides, ColorPl
     compute_guides(g, guides);
   }
   StageTimer timer(stats, "denoise_demodulate");
-  demodulate(noisy, g, guides, illumination);
+  demodulate(noisy, g, guides, illumination, timer.non_finite());
 }
 
 }  // namespace candela

@@ -8,10 +8,15 @@
 
 namespace candela {
 
-// Bad input from a file, a script or the command line. Caught in main, printed, non-zero exit.
+// Bad input from a file, a script or the command line. Caught in main, printed as `error: ...`, and the
+// process exits with kBadInputExit.
 struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// The one exit status of every bad input (command-line parse errors included); 1 is left for failures
+// that are not the input's fault (out of memory, no display, an unexpected exception).
+inline constexpr int kBadInputExit = 2;
 
 [[noreturn]] inline void check_failed(const char* cond, const char* file, int line) {
   std::fprintf(stderr, "CHECK failed: %s at %s:%d\n", cond, file, line);

@@ -8,6 +8,12 @@ uint64_t FrameStats::rays() const {
   return n;
 }
 
+uint64_t FrameStats::non_finite() const {
+  uint64_t n = 0;
+  for (const StageStats& s : stages) n += s.non_finite;
+  return n;
+}
+
 double FrameStats::stage_ms(const std::string& name) const {
   double ms = 0.0;
   for (const StageStats& s : stages)
@@ -15,14 +21,15 @@ double FrameStats::stage_ms(const std::string& name) const {
   return ms;
 }
 
-void FrameStats::add(const std::string& name, double ms, uint64_t rays) {
+void FrameStats::add(const std::string& name, double ms, uint64_t rays, uint64_t non_finite) {
   for (StageStats& s : stages)
     if (s.name == name) {
       s.ms += ms;
       s.rays += rays;
+      s.non_finite += non_finite;
       return;
     }
-  stages.push_back({name, ms, rays});
+  stages.push_back({name, ms, rays, non_finite});
 }
 
 StageTimer::StageTimer(FrameStats& stats, std::string name)
@@ -30,7 +37,7 @@ StageTimer::StageTimer(FrameStats& stats, std::string name)
 
 StageTimer::~StageTimer() {
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
-  stats_.add(name_, ms, rays_.count.load());
+  stats_.add(name_, ms, rays_.count.load(), non_finite_.count.load());
 }
 
 }  // namespace candela

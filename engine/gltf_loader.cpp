@@ -6,6 +6,8 @@
 #include <cctype>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <map>
 #include <new>
 #include <optional>
@@ -16,6 +18,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "engine/check.h"
+#include "engine/input_limits.h"
 
 namespace candela {
 namespace {
@@ -50,6 +53,37 @@ void check_index(const Context& ctx, int index, size_t size, const std::string& 
   if (index < 0 || size_t(index) >= size)
     ctx.fail(where + ": " + what + " " + std::to_string(index) + " does not exist (the file has " +
              std::to_string(size) + ")");
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Representable values (limits and reasons in engine/input_limits.h): world-space coordinates and
+// emission that the tracer's float arithmetic can take without overflowing to inf or NaN.
+
+// Throws unless `value` is finite and at most `limit` in magnitude; `what` names the value and its place.
+void check_magnitude(const Context& ctx, double value, float limit, const std::string& what) {
+  if (!(std::abs(value) <= double(limit)))
+    ctx.fail(what + " " + format_number(value) + " is beyond the limit of " + format_number(limit) +
+             " (see engine/input_limits.h)");
+}
+
+// The component of `p` largest in magnitude (NaN if any is NaN), to check a point with one message.
+float largest_component(const vec3& p) {
+  if (!is_finite(p)) return std::numeric_limits<float>::quiet_NaN();
+  const vec3 a = glm::abs(p);
+  return a.x >= a.y && a.x >= a.z ? p.x : a.y >= a.z ? p.y : p.z;
+}
+
+void check_point(const Context& ctx, const vec3& p, const std::string& what) {
+  check_magnitude(ctx, largest_component(p), kMaxCoordinate, what);
+}
+
+// Throws unless the 8 corners of `object` (a mesh's bounds) placed by `transform` lie within the limit.
+void check_placed_bounds(const Context& ctx, const Bounds3& object, const mat4& transform, const std::string& where) {
+  for (int corner = 0; corner < 8; ++corner) {
+    vec3 p((corner & 1) ? object.hi.x : object.lo.x, (corner & 2) ? object.hi.y : object.lo.y,
+           (corner & 4) ? object.hi.z : object.lo.z);
+    check_point(ctx, transform_point(transform, p), where + ": world-space coordinate");
+  }
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -127,22 +161,51 @@ void add_warning_lines(const Context& ctx, const std::string& text) {
   }
 }
 
-// Reads `path` (.gltf or .glb) into a tinygltf model; tinygltf's errors become an InputError, its
-// warnings go to the report.
+// The whole file as bytes; tinygltf takes at most 4 GiB (an unsigned int size).
+std::string read_file_bytes(const Context& ctx) {
+  std::ifstream in(ctx.file, std::ios::binary);
+  if (!in) ctx.fail("cannot open the file");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (!in && !in.eof()) ctx.fail("read failed");
+  std::string data = std::move(bytes).str();
+  if (data.empty()) ctx.fail("the file is empty");
+  if (data.size() > std::numeric_limits<unsigned int>::max()) ctx.fail("larger than 4 GiB");
+  return data;
+}
+
+// The JSON text of a .gltf file, or of a .glb file's first chunk (bytes 20.. after the 12-byte header and
+// the chunk's length and type), clipped to the file; a GLB too short for that has none to scan.
+std::string_view json_text(const std::string& data, bool binary) {
+  if (!binary) return data;
+  if (data.size() < 20) return {};
+  uint32_t chunk_length = 0;
+  std::memcpy(&chunk_length, data.data() + 12, 4);
+  return std::string_view(data).substr(20, chunk_length);
+}
+
+// Reads `path` (.gltf or .glb) into a tinygltf model, after bounding its JSON nesting (the parser
+// recurses per level); tinygltf's errors become an InputError, its warnings go to the report.
 tinygltf::Model read_model(const Context& ctx) {
   std::string ext = lower_extension(ctx.file);
   if (ext != ".gltf" && ext != ".glb") ctx.fail("not a glTF file (expected the extension .gltf or .glb)");
   std::error_code ec;
   if (!std::filesystem::is_regular_file(ctx.file, ec)) ctx.fail("file does not exist or is not a regular file");
+  const std::string data = read_file_bytes(ctx);
+  check_json_nesting(json_text(data, ext == ".glb"), ctx.file);
 
   tinygltf::TinyGLTF parser;
   parser.SetImageLoader(decode_image_leniently, nullptr);
   tinygltf::Model model;
   std::string err, warn;
+  // Relative URIs resolve against the file's directory, as tinygltf's *FromFile functions do.
+  const std::string base_dir = std::filesystem::path(ctx.file).parent_path().string();
+  const auto size = static_cast<unsigned int>(data.size());
   bool ok = false;
   try {
-    ok = ext == ".glb" ? parser.LoadBinaryFromFile(&model, &err, &warn, ctx.file)
-                       : parser.LoadASCIIFromFile(&model, &err, &warn, ctx.file);
+    ok = ext == ".glb" ? parser.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(data.data()),
+                                                     size, base_dir)
+                       : parser.LoadASCIIFromString(&model, &err, &warn, data.data(), size, base_dir);
   } catch (const std::exception& e) {
     ctx.fail(std::string("cannot parse: ") + e.what());
   }
@@ -454,6 +517,9 @@ std::optional<Mesh> convert_primitive(const Context& ctx, int mesh_index, int pr
   mesh.positions = to_vectors<vec3>(read_accessor(ctx, pos->second, TINYGLTF_TYPE_VEC3, where + " POSITION"));
   if (!all_finite(mesh.positions))
     ctx.fail(where + " POSITION accessor " + std::to_string(pos->second) + ": contains NaN or infinite values");
+  const Bounds3 bounds = mesh.bounds();
+  for (const vec3& corner : {bounds.lo, bounds.hi})
+    check_point(ctx, corner, where + " POSITION accessor " + std::to_string(pos->second) + ": coordinate");
   const size_t n = mesh.positions.size();  // below 2^28 (kMaxAccessorElements), so indices fit uint32
 
   read_optional_attribute(ctx, prim, "NORMAL", TINYGLTF_TYPE_VEC3, n, where, mesh.normals);
@@ -925,8 +991,10 @@ std::optional<PunctualLight> node_light(const Context& ctx, const PlacedNode& pl
     ctx.warn(at + ": color does not have 3 components; using white");
   }
   light.intensity = color * clamped(ctx, gl.intensity, 0.0f, kInfinity, 1.0f, at + " intensity");
+  check_magnitude(ctx, max_component(light.intensity), kMaxEmission, at + ": intensity x color");
 
   light.position = vec3(placed.world * vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  check_point(ctx, light.position, at + ": world-space position");
   vec3 dir(placed.world * vec4(0.0f, 0.0f, -1.0f, 0.0f));
   if (glm::length(dir) > 0.0f && is_finite(glm::normalize(dir))) light.direction = glm::normalize(dir);
   else ctx.warn(at + ": node transform collapses the light direction; using -Z");
@@ -951,6 +1019,7 @@ std::optional<CameraDesc> node_camera(const Context& ctx, const PlacedNode& plac
   }
   CameraDesc desc;
   desc.position = vec3(placed.world * vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  check_point(ctx, desc.position, where + ": camera position");
   vec3 forward(placed.world * vec4(0.0f, 0.0f, -1.0f, 0.0f));
   vec3 up(placed.world * vec4(0.0f, 1.0f, 0.0f, 0.0f));
   if (!(glm::length(forward) > 0.0f) || !(glm::length(up) > 0.0f)) {
@@ -973,6 +1042,8 @@ std::optional<CameraDesc> node_camera(const Context& ctx, const PlacedNode& plac
 std::vector<std::vector<int>> convert_nodes(const Context& ctx, const std::vector<PlacedNode>& placed_nodes, Scene& scene) {
   std::vector<std::vector<int>> instances_of(ctx.model.nodes.size());
   std::map<std::pair<int, int>, int> mesh_of;  // (glTF mesh, primitive) -> candela mesh, -1 = skipped
+  std::vector<Bounds3> mesh_bounds;             // per candela mesh (this function alone adds meshes), object space
+  CHECK(scene.meshes.empty());
   int default_material = -1;
   auto get_default_material = [&]() {
     if (default_material < 0) {
@@ -998,11 +1069,13 @@ std::vector<std::vector<int>> convert_nodes(const Context& ctx, const std::vecto
           int id = -1;
           if (mesh) {
             id = int(scene.meshes.size());
+            mesh_bounds.push_back(mesh->bounds());
             scene.meshes.push_back(std::move(*mesh));
           }
           it = mesh_of.emplace(key, id).first;
         }
         if (it->second < 0) continue;
+        check_placed_bounds(ctx, mesh_bounds[size_t(it->second)], placed.world, where);
         Instance inst;
         inst.mesh = it->second;
         inst.transform = inst.prev_transform = placed.world;
@@ -1064,6 +1137,20 @@ Track<T> read_channel_track(const Context& ctx, const tinygltf::Animation& anim,
   return track;
 }
 
+// Throws unless the animated instance stays within the coordinate limit at every key time of its tracks
+// (between keys translation and scale interpolate between key values, and rotation keeps lengths).
+void check_animated_bounds(const Context& ctx, const InstanceAnimation& a, const Bounds3& object, const std::string& where) {
+  for (const std::vector<float>* times : {&a.translation.times, &a.rotation.times, &a.scale.times})
+    for (float t : *times) check_placed_bounds(ctx, object, a.transform_at(t), where + " at animation time " + format_number(t));
+}
+
+// Throws unless every material's emission (emissiveFactor x strength) is within the emission limit.
+void check_emission(const Context& ctx, const Scene& scene) {
+  for (size_t i = 0; i < ctx.model.materials.size(); ++i)
+    check_magnitude(ctx, max_component(scene.materials[i].emission), kMaxEmission,
+                    "material " + std::to_string(i) + quoted_name(ctx.model.materials[i].name) + ": emission");
+}
+
 // Reads every animation's node channels into Scene::instance_animations (all animations play at once,
 // from time 0 in seconds). A node's instance moves as parent_world * T(t) * R(t) * S(t), unanimated
 // channels keeping the node's own values. Nodes without meshes, nodes with a `matrix`, nodes below an
@@ -1123,6 +1210,7 @@ void convert_animations(const Context& ctx, const std::vector<PlacedNode>& place
       a.scale = constant(vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
     for (int instance : instances_of[size_t(placed.node)]) {
       a.instance = instance;
+      check_animated_bounds(ctx, a, scene.meshes[size_t(scene.instances[size_t(instance)].mesh)].bounds(), where);
       scene.instances[size_t(instance)].animated = true;
       scene.instance_animations.push_back(a);
     }
@@ -1149,6 +1237,7 @@ Scene convert(const std::string& path, LoadReport& report) {
   for (size_t i = 0; i < model.materials.size(); ++i) scene.materials.push_back(convert_material(ctx, table, i));
   const std::vector<PlacedNode> placed = place_nodes(ctx);
   convert_animations(ctx, placed, convert_nodes(ctx, placed, scene), scene);
+  check_emission(ctx, scene);
   if (scene.instances.empty()) ctx.warn("the scene has no triangle mesh");
   return scene;
 }

@@ -22,6 +22,16 @@
 //   mesh, nodes moved only by an animated ancestor, and lights/cameras on animated nodes stay static
 //   (with a warning).
 // - Instances carry their node's name (Instance::name).
+//
+// Hostile input (limits and their reasons in engine/input_limits.h): the JSON (of a .gltf, or a .glb's
+// JSON chunk) is refused before parsing when nested deeper than kMaxJsonDepth (512) levels. After the
+// node transforms, every vertex (the corners of each instance's bounds, for animated instances at every
+// key time), light position and the camera must lie within +-kMaxCoordinate (1e8) in every coordinate:
+// ray arithmetic multiplies up to three coordinate differences, (2e8)^3 = 8e24 stays far below FLT_MAX,
+// while 1e38 vertices or a node scale of 1e25 overflowed to inf/NaN inside Embree. Emission
+// (emissiveFactor x strength) and punctual intensities must be at most kMaxEmission (1e10) per channel,
+// so that light powers (radiance x area x 2 pi, in float) stay finite. Each refusal is an InputError
+// naming the accessor, node, light or material.
 #include <cstddef>
 #include <string>
 #include <vector>

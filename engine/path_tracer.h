@@ -3,6 +3,7 @@
 // importance sampling (Veach 1997, power heuristic, beta = 2), Russian roulette after three bounces.
 // It is the ground truth of every convergence test, so it favours clarity over speed.
 // The light-selection policy is a template parameter (engine/light_sampler.h).
+#include <limits>
 #include <optional>
 
 #include "engine/camera.h"
@@ -71,8 +72,9 @@ struct PathStart {
 };
 
 // Radiance arriving along start.ray: NEE with the light sampler and BSDF sampling combined by the power
-// heuristic, Russian roulette, at most params.max_depth bounces counted from the camera. `first_hit`, if
-// given, receives the surface the ray hits first (stays empty on a miss).
+// heuristic, Russian roulette, at most params.max_depth bounces counted from the camera; NaN when the
+// path's throughput overflowed (callers drop and count non-finite results). `first_hit`, if given,
+// receives the surface the ray hits first (stays empty on a miss).
 template <LightSampler S>
 vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams& params, const PathStart& start,
                 Rng& rng, uint64_t& rays, std::optional<SurfacePoint>* first_hit = nullptr) {
@@ -122,17 +124,19 @@ vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams&
       if (rng.next_float() >= survive) break;
       beta /= survive;
     }
-    if (!is_finite(beta)) break;
+    // A throughput that overflowed makes the whole path invalid: NaN, which the caller drops and counts.
+    if (!is_finite(beta)) return vec3(std::numeric_limits<float>::quiet_NaN());
   }
   return L;
 }
 
 // Stage: adds params.spp path samples per pixel into `sum` (running sum of radiance; divide by the total
-// sample count to display). Reads the scene view; traces about spp * (1 + 2 * depth) rays per pixel.
+// sample count to display); a non-finite sample is dropped and counted in `non_finite`. Reads the scene
+// view; traces about spp * (1 + 2 * depth) rays per pixel.
 // Randomness is keyed on (seed, pixel, frame, sample), so the result does not depend on thread count.
 template <LightSampler S>
 void path_trace(const SceneView& view, const S& sampler, const PathTracerParams& params, int frame, Image& sum,
-                RayCounter& rays) {
+                RayCounter& rays, Counter& non_finite) {
   for_each_pixel(view.camera.width(), view.camera.height(), rays, [&](size_t pixel, int x, int y) {
     uint64_t traced = 0;
     vec3 acc(0.0f);
@@ -143,6 +147,7 @@ void path_trace(const SceneView& view, const S& sampler, const PathTracerParams&
       PathStart start{Ray{view.camera.position(), view.camera.direction(film.x, film.y), 0.0f, kInfinity}};
       vec3 L = trace_path(view, sampler, params, start, rng, traced);
       if (is_finite(L)) acc += L;
+      else non_finite.add(1);
     }
     sum.pixels[pixel] += acc;
     return traced;

@@ -25,7 +25,7 @@ bool di_occluded(const SceneView& view, const GBuffer& g, size_t i, const LightS
 
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
               const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
-              Image& sum, RayCounter& rays) {
+              Image& sum, RayCounter& rays, Counter& non_finite) {
   const bool reusing = reuse.max_age > 0 && reuse.history_pixel && reuse.previous &&
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
   visibility.assign(g.size(), DiVisibility{});
@@ -51,6 +51,7 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
       }
     }
     if (is_finite(L)) sum.pixels[i] += L;
+    else non_finite.add(1);
     return traced;
   });
 }

@@ -199,10 +199,10 @@ struct DiVisibilityReuse {
 // Stage "di_shade": reads the G-buffer, reservoirs and the unsampled light of the candidates, adds
 // f L_e G W of each pixel's sample, with the exact surface, into `sum`, plus, with `unsampled`, the
 // emission seen and the unsampled light (ReSTIR GI passes none: emission seen is direct light); writes
-// each pixel's verdict to `visibility`. One shadow ray per pixel with a sample, except where a verdict
-// is reused.
+// each pixel's verdict to `visibility`; a pixel whose estimate is not finite adds nothing and is counted
+// in `non_finite`. One shadow ray per pixel with a sample, except where a verdict is reused.
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
               const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
-              Image& sum, RayCounter& rays);
+              Image& sum, RayCounter& rays, Counter& non_finite);
 
 }  // namespace candela

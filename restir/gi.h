@@ -22,10 +22,12 @@ struct GiParams {
 
 // Stage "gi_samples": reads the G-buffer (exact surface: BSDF sampling) and packed surfaces (target);
 // writes one reservoir per pixel holding its sample point, M = 1 and W = 1 / p_area(x_s) with p_area the
-// BSDF's solid-angle density times |cos_s| / d^2. Cost: one path per pixel (about 1 + 2 x bounces rays).
+// BSDF's solid-angle density times |cos_s| / d^2; a path whose radiance is not finite leaves an empty
+// reservoir and is counted in `non_finite`. Cost: one path per pixel (about 1 + 2 x bounces rays).
 template <LightSampler S>
 void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                        const GiParams& params, int frame, std::vector<DiReservoir>& out, RayCounter& rays) {
+                        const GiParams& params, int frame, std::vector<DiReservoir>& out, RayCounter& rays,
+                        Counter& non_finite) {
   out.assign(g.size(), DiReservoir{});
   PathTracerParams path;
   path.max_depth = params.max_depth;
@@ -49,6 +51,7 @@ void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& 
     PathStart start{view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi), 1, bs.pdf,
                     ShadingContext{receiver.position, receiver.shading_normal}, false};
     vec3 L = trace_path(view, sampler, path, start, rng, traced, &x_s);
+    if (!is_finite(L)) non_finite.add(1);
     if (!x_s || !is_finite(L) || max_component(L) <= 0.0f) return traced;
     const vec3 d = x_s->position - receiver.position;
     const float d2 = glm::dot(d, d), cos_s = std::abs(glm::dot(x_s->geometric_normal, d)) / std::sqrt(d2);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs a candela command line and checks how it ends.
-#   cli_expect.sh fail REGEX OUTPUT -- CMD...   must exit 1..127 (not a crash), print REGEX on stderr,
-#                                               and leave no OUTPUT file behind
+#   cli_expect.sh fail STATUS REGEX OUTPUT -- CMD...   must exit with STATUS (2: bad input), print an
+#                                               `error:` line matching REGEX on stderr, and leave no OUTPUT file behind
 #   cli_expect.sh ok FILE... -- CMD...           must exit 0 and write every FILE (removed first)
 set -u
 mode=$1; shift
@@ -9,11 +9,11 @@ args=()
 while [ "$1" != "--" ]; do args+=("$1"); shift; done
 shift
 if [ "$mode" = fail ]; then
-  regex=${args[0]}; output=${args[1]}
+  status=${args[0]}; regex=${args[1]}; output=${args[2]}
   rm -f "$output"
   err=$("$@" 2>&1 >/dev/null); rc=$?
-  [ $rc -ge 1 ] && [ $rc -lt 128 ] || { echo "expected exit 1..127, got $rc: $err"; exit 1; }
-  echo "$err" | grep -Eq -- "$regex" || { echo "stderr does not match '$regex': $err"; exit 1; }
+  [ $rc -eq "$status" ] || { echo "expected exit $status, got $rc: $err"; exit 1; }
+  echo "$err" | grep -Eq -- "^error: .*$regex" || { echo "stderr has no 'error: ...$regex' line: $err"; exit 1; }
   [ ! -e "$output" ] || { echo "$output was written"; exit 1; }
   ls "$(dirname "$output")"/.*.tmp* >/dev/null 2>&1 && { echo "temporary file left behind"; exit 1; }
   exit 0

@@ -5,6 +5,7 @@
 
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
+#include "tests/render_helpers.h"
 
 namespace candela::testing {
 
@@ -20,7 +21,7 @@ inline CameraDesc flythrough_camera(const CameraDesc& start, int frame) {
 // frame with a non-finite pixel.
 inline void render_flythrough(Renderer& renderer, const CameraDesc& start, int frames) {
   for (int frame = 0; frame < frames; ++frame) {
-    renderer.render_frame(frame, frame / 30.0f, flythrough_camera(start, frame));
+    testing::render_checked(renderer, frame, frame / 30.0f, flythrough_camera(start, frame));
     for (const vec3& p : renderer.image().pixels) ASSERT_TRUE(is_finite(p)) << "frame " << frame;
   }
 }

@@ -1,9 +1,29 @@
 #pragma once
-// Renders a small image with the reference path tracer for tests: per-pixel means of `spp` paths.
+// Rendering for the statistical tests, which must fail when a stage dropped a NaN or infinite value (a
+// mean would otherwise hide it): render_paths (the reference path tracer alone) and render_checked (a
+// Renderer's frame).
+#include <gtest/gtest.h>
+
+#include "apps/renderer.h"
 #include "engine/path_tracer.h"
 #include "samplers/simple_samplers.h"
 
 namespace candela::testing {
+
+// Fails the current test for every stage of `stats` that dropped non-finite values.
+inline void expect_all_finite(const FrameStats& stats) {
+  for (const StageStats& s : stats.stages)
+    EXPECT_EQ(s.non_finite, 0u) << "frame " << stats.frame << ": stage " << s.name << " dropped non-finite values";
+}
+
+// Renderer::render_frame, then expect_all_finite on its stats.
+inline FrameStats render_checked(Renderer& renderer, int frame, float time, const CameraDesc& camera) {
+  FrameStats stats = renderer.render_frame(frame, time, camera);
+  expect_all_finite(stats);
+  return stats;
+}
+
+// Per-pixel means of `spp` reference paths; fails the test if a path's radiance was not finite.
 
 template <class Sampler = PowerLightSampler>
 Image render_paths(const Scene& scene, const LightList& lights, int w, int h, int spp, int max_depth, uint64_t seed) {
@@ -17,7 +37,9 @@ Image render_paths(const Scene& scene, const LightList& lights, int w, int h, in
   params.seed = seed;
   Image sum(w, h);
   RayCounter rays;
-  path_trace(view, sampler, params, 0, sum, rays);
+  Counter non_finite;
+  path_trace(view, sampler, params, 0, sum, rays, non_finite);
+  EXPECT_EQ(non_finite.count.load(), 0u) << "path_trace dropped non-finite samples";
   for (vec3& p : sum.pixels) p /= float(spp);
   return sum;
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <limits>
 #include <optional>
 
 #include "apps/renderer.h"
@@ -11,6 +12,7 @@
 #include "denoise/edge_stopping.h"
 #include "engine/builtin_scenes.h"
 #include "engine/image_metrics.h"
+#include "tests/render_helpers.h"
 #include "engine/rng.h"
 
 namespace candela {
@@ -43,7 +45,7 @@ Sequence render_sequence(const Scene& scene, int frames, uint64_t seed) {
   CameraDesc camera = scene.default_camera();
   Sequence s;
   for (int f = 0; f < frames; ++f) {
-    renderer.render_frame(f, 0.0f, camera);
+    testing::render_checked(renderer, f, 0.0f, camera);
     s.noisy.push_back(renderer.image());
     s.gbuffers.push_back(renderer.gbuffer());
   }
@@ -56,7 +58,7 @@ Image render_reference(const Scene& scene) {
   RenderSettings s = noisy_settings(777);
   s.spp = 256;
   Renderer renderer(scene, s);
-  renderer.render_frame(0, 0.0f, scene.default_camera());
+  testing::render_checked(renderer, 0, 0.0f, scene.default_camera());
   return renderer.image();
 }
 
@@ -134,12 +136,12 @@ TEST(DenoiseRendered, RendererDenoisesRestirFrames) {
   RenderSettings reference_settings = settings;
   reference_settings.di_reuse.temporal = reference_settings.di_reuse.spatial = false;
   Renderer reference(scene, reference_settings);
-  for (int frame = 0; frame < 512; ++frame) reference.render_frame(frame, 0.0f, scene.default_camera());
+  for (int frame = 0; frame < 512; ++frame) testing::render_checked(reference, frame, 0.0f, scene.default_camera());
   settings.accumulate = false;
   settings.denoise.kind = DenoiserKind::Svgf;
   Renderer renderer(scene, settings);
   FrameStats stats;
-  for (int frame = 0; frame < 12; ++frame) stats = renderer.render_frame(frame, 0.0f, scene.default_camera());
+  for (int frame = 0; frame < 12; ++frame) stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
   double noisy = compare_images(renderer.noisy_image(), reference.image()).rel_mse;
   double denoised = compare_images(renderer.image(), reference.image()).rel_mse;
   std::printf("restir-di frame 12: relMSE noisy %.4f, svgf %.4f (%.1fx lower)\n", noisy, denoised, noisy / denoised);
@@ -384,6 +386,22 @@ TEST(DenoiseSynthetic, StagesAreTimed) {
                                                          "svgf_variance", "svgf_atrous", "denoise_remodulate"}));
   EXPECT_EQ(names(bilateral_stats), (std::vector<std::string>{"denoise_guides", "denoise_demodulate", "bilateral",
                                                               "denoise_remodulate"}));
+}
+
+// A NaN and an infinite input pixel are dropped (they become 0 in the illumination) and counted in the
+// stats, so that expect_all_finite fails the statistical tests that meet them.
+TEST(DenoiseSynthetic, NonFiniteInputIsCounted) {
+  GBuffer g = make_gbuffer(32, 16, [](int, int) -> std::optional<Surface> {
+    return Surface{3.0f, vec3(0.0f, 0.0f, 1.0f), vec3(0.5f), 0};
+  });
+  Image noisy = shade(g, [](int, int) { return 1.0f; }, 0);
+  noisy.pixels[40] = vec3(std::numeric_limits<float>::quiet_NaN());
+  noisy.pixels[41] = vec3(std::numeric_limits<float>::infinity(), 0.0f, 0.0f);
+  FrameStats stats;
+  const Image out = Denoiser(DenoiserParams{DenoiserKind::Svgf}).denoise(g, GBuffer{}, noisy, stats);
+  EXPECT_EQ(stats.non_finite(), 2u);
+  for (const StageStats& s : stats.stages) EXPECT_EQ(s.non_finite, s.name == "denoise_demodulate" ? 2u : 0u) << s.name;
+  for (const vec3& p : out.pixels) EXPECT_TRUE(is_finite(p));
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
 #include "engine/image_metrics.h"
+#include "tests/render_helpers.h"
 
 namespace candela {
 namespace {
@@ -38,14 +39,14 @@ TEST(RestirDiReuse, MovingLightsStayUnbiased) {
   reference_settings.jitter = false;
   reference_settings.di_reuse.temporal = reference_settings.di_reuse.spatial = false;
   Renderer reference(scene, reference_settings);
-  for (int frame = 0; frame < 1024; ++frame) reference.render_frame(frame, last, scene.default_camera());
+  for (int frame = 0; frame < 1024; ++frame) testing::render_checked(reference, frame, last, scene.default_camera());
   const double expected = image_mean(reference.image());
   double sum = 0.0, sum2 = 0.0;
   for (int run = 0; run < runs; ++run) {
     RenderSettings settings = restir_settings(w, h, 100 + run);
     settings.jitter = false;
     Renderer renderer(scene, settings);
-    for (int frame = 0; frame < frames; ++frame) renderer.render_frame(frame, frame / 30.0f, scene.default_camera());
+    for (int frame = 0; frame < frames; ++frame) testing::render_checked(renderer, frame, frame / 30.0f, scene.default_camera());
     double m = image_mean(renderer.image());
     sum += m;
     sum2 += m * m;
@@ -77,8 +78,8 @@ TEST(RestirDiReuse, DisocclusionBoostAddsNeighbours) {
     s.di_reuse.spatial_radius = 5.0f;  // most neighbours on similar surfaces at this small size
     s.di_reuse.disocclusion_neighbours = boost;
     Renderer renderer(scene, s);
-    renderer.render_frame(0, 0.0f, a);
-    renderer.render_frame(1, 0.0f, b);
+    testing::render_checked(renderer, 0, 0.0f, a);
+    testing::render_checked(renderer, 1, 0.0f, b);
     return mean_confidence(renderer);
   };
   double plain = after_cut(5), boosted = after_cut(10);
@@ -116,7 +117,7 @@ TEST(RestirDiReuse, VisibilityReuseSavesShadowRays) {
     Renderer renderer(scene, s);
     shade_rays = 0;
     for (int frame = 0; frame < 10; ++frame) {
-      FrameStats stats = renderer.render_frame(frame, 0.0f, scene.default_camera());
+      FrameStats stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
       for (const StageStats& st : stats.stages)
         if (st.name == "di_shade" && frame > 0) shade_rays += st.rays;
     }

@@ -132,7 +132,7 @@ TEST_F(DirectLightScene, RestirDiCandidatesAreUnbiased) {
     settings.seed = 11;
     Renderer renderer(*scene_, settings);
     CameraDesc camera = scene_->default_camera();
-    for (int frame = 0; frame < 256; ++frame) renderer.render_frame(frame, 0.0f, camera);
+    for (int frame = 0; frame < 256; ++frame) testing::render_checked(renderer, frame, 0.0f, camera);
     ImageError e = compare_images(renderer.image(), *reference_);
     std::printf("restir-di (%s, visibility %d, %d light + %d BSDF candidates): mean difference %+.5f (standard error %.5f), "
                 "relMSE %.3e\n", kind == LightSamplerKind::Tree ? "tree" : "power", int(visibility), light_candidates,
@@ -163,7 +163,7 @@ TEST_F(DirectLightScene, RestirDiReuseIsUnbiasedAndHelps) {
   RenderSettings reference_settings = settings_for(5);
   reference_settings.di_reuse.temporal = reference_settings.di_reuse.spatial = false;
   Renderer reference_renderer(*scene_, reference_settings);
-  for (int frame = 0; frame < 1024; ++frame) reference_renderer.render_frame(frame, 0.0f, scene_->default_camera());
+  for (int frame = 0; frame < 1024; ++frame) testing::render_checked(reference_renderer, frame, 0.0f, scene_->default_camera());
   Image reference = reference_renderer.image();
   struct Mode { const char* name; bool reuse; DiBiasCorrection bias; bool permutation = false; bool visibility = false; };
   double rel_mse_of[7];
@@ -185,7 +185,7 @@ TEST_F(DirectLightScene, RestirDiReuseIsUnbiasedAndHelps) {
       // unbiased (without it basic measured 5 standard errors dark).
       settings.di.candidate_visibility = settings.di_reuse.mis_visibility = mode.visibility;
       Renderer renderer(*scene_, settings);
-      for (int frame = 0; frame < frames; ++frame) renderer.render_frame(frame, 0.0f, scene_->default_camera());
+      for (int frame = 0; frame < frames; ++frame) testing::render_checked(renderer, frame, 0.0f, scene_->default_camera());
       Image img = renderer.image();
       double mean = image_mean(img);
       sum += mean;
@@ -218,7 +218,7 @@ TEST(RestirDi, EnvironmentReachesThroughBsdfCandidates) {
   settings.method = Method::RestirDi;
   settings.di_reuse.temporal = settings.di_reuse.spatial = false;
   Renderer renderer(scene, settings);
-  for (int frame = 0; frame < 128; ++frame) renderer.render_frame(frame, 0.0f, scene.default_camera());
+  for (int frame = 0; frame < 128; ++frame) testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
   ImageError e = compare_images(renderer.image(), reference);
   std::printf("cornell with environment: mean difference %+.5f (standard error %.5f)\n", e.mean_difference, e.standard_error);
   EXPECT_LT(std::abs(e.mean_difference), 4.0 * e.standard_error);

@@ -235,6 +235,13 @@ const BrokenFile kBrokenFiles[] = {
     {"InvalidComponentType", "bad_component_type.gltf", "componentType 5124"},
     {"MaterialOutOfRange", "material_out_of_range.gltf", "material 3 does not exist"},
     {"AttributeCountMismatch", "count_mismatch.gltf", "NORMAL"},
+    // Hostile input (engine/input_limits.h): too deep to parse, or not representable in float ray arithmetic.
+    {"DeepNestingGltf", "deep_nesting.gltf", "JSON nested deeper than 512 levels"},
+    {"DeepNestingGlb", "deep_nesting.glb", "JSON nested deeper than 512 levels"},
+    {"HugePosition", "huge_position.gltf", "POSITION accessor 0: coordinate 1e+38 is beyond the limit of 1e+08"},
+    {"HugeNodeScale", "huge_node_scale.gltf", "node 0 'giant': world-space coordinate 1e+25 is beyond the limit"},
+    {"FarCamera", "far_camera.gltf", "node 1 'far_eye': camera position 1e+30 is beyond the limit"},
+    {"HugeEmission", "huge_emission.gltf", "material 0 'hot': emission"},
 };
 
 class BrokenFileTest : public ::testing::TestWithParam<BrokenFile> {};

@@ -6,6 +6,7 @@
 #include "engine/builtin_scenes.h"
 #include "engine/image_metrics.h"
 #include "tests/flythrough.h"
+#include "tests/render_helpers.h"
 
 namespace candela {
 namespace {
@@ -20,7 +21,7 @@ Image path_traced(const Scene& scene, int w, int h, int depth, int spp) {
   s.max_depth = depth;
   s.spp = spp;
   Renderer renderer(scene, s);
-  renderer.render_frame(0, 0.0f, scene.default_camera());
+  testing::render_checked(renderer, 0, 0.0f, scene.default_camera());
   return renderer.image();
 }
 
@@ -60,7 +61,7 @@ Indirect restir_gi_runs(const Scene& scene, int w, int h, int depth, int runs, i
     s.seed = seed + uint64_t(run);
     s.gi_reuse = reuse;
     Renderer renderer(scene, s);
-    for (int frame = 0; frame < frames; ++frame) renderer.render_frame(frame, 0.0f, scene.default_camera());
+    for (int frame = 0; frame < frames; ++frame) testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
     double m = image_mean(renderer.image());
     sum += m;
     sum2 += m * m;

@@ -25,7 +25,8 @@ ImU32 stage_colour(int index) {
 }
 
 // Stacked bars of per-stage milliseconds, one column per recorded frame (oldest left), then a legend with
-// each stage's last and mean milliseconds and rays. Cost: O(frames x stages) rectangles.
+// each stage's last and mean milliseconds, rays and dropped non-finite values. Cost: O(frames x stages)
+// rectangles.
 void draw_stage_graph(const FrameHistory& history) {
   std::vector<std::string> names;  // stages in order of first appearance
   for (size_t f = 0; f < history.size(); ++f)
@@ -50,20 +51,21 @@ void draw_stage_graph(const FrameHistory& history) {
   draw->AddText(ImVec2(origin.x + 4, origin.y + 2), IM_COL32(255, 255, 255, 255),
                 (std::to_string(int(max_ms + 0.5)) + " ms").c_str());
   ImGui::Dummy(size);
-  if (!ImGui::BeginTable("stages", 4, ImGuiTableFlags_SizingStretchProp)) return;
+  if (!ImGui::BeginTable("stages", 5, ImGuiTableFlags_SizingStretchProp)) return;
   ImGui::TableSetupColumn("stage");
   ImGui::TableSetupColumn("ms");
   ImGui::TableSetupColumn("mean");
   ImGui::TableSetupColumn("Mrays");
+  ImGui::TableSetupColumn("NaN/Inf");
   ImGui::TableHeadersRow();
   const FrameStats& last = history.stats(history.size() - 1);
   for (size_t k = 0; k < names.size(); ++k) {
     double mean = 0.0;
     for (size_t f = 0; f < history.size(); ++f) mean += history.stats(f).stage_ms(names[k]);
     mean /= double(history.size());
-    uint64_t rays = 0;
+    uint64_t rays = 0, non_finite = 0;
     for (const StageStats& s : last.stages)
-      if (s.name == names[k]) rays = s.rays;
+      if (s.name == names[k]) rays = s.rays, non_finite = s.non_finite;
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
     ImVec2 p = ImGui::GetCursorScreenPos();
@@ -77,6 +79,8 @@ void draw_stage_graph(const FrameHistory& history) {
     ImGui::Text("%.2f", mean);
     ImGui::TableNextColumn();
     ImGui::Text("%.3f", double(rays) * 1e-6);
+    ImGui::TableNextColumn();
+    ImGui::Text("%llu", static_cast<unsigned long long>(non_finite));
   }
   ImGui::EndTable();
 }
@@ -202,6 +206,13 @@ HudActions draw_hud(HudState& state, const FrameHistory& history, const Renderer
       ImGui::Text("%dx%d  frame %d  %d spp accumulated", renderer.settings().width, renderer.settings().height, last.frame,
                   renderer.accumulated_spp());
       ImGui::Text("frame %.1f ms (%.1f FPS), render %.1f ms", frame_ms, 1000.0 / std::max(frame_ms, 1e-3), last.total_ms);
+      // NaN/Inf values the stages dropped (they should never occur): red as soon as one did in the graph's frames.
+      uint64_t recent_non_finite = 0;
+      for (size_t f = 0; f < history.size(); ++f) recent_non_finite += history.stats(f).non_finite();
+      ImGui::TextColored(recent_non_finite ? ImVec4(1.0f, 0.3f, 0.3f, 1.0f) : ImGui::GetStyleColorVec4(ImGuiCol_Text),
+                         "non-finite dropped: %llu last frame, %llu in the last %zu",
+                         static_cast<unsigned long long>(last.non_finite()),
+                         static_cast<unsigned long long>(recent_non_finite), history.size());
       float frame_times[FrameHistory::kCapacity], mrays[FrameHistory::kCapacity];
       for (size_t f = 0; f < history.size(); ++f) {
         frame_times[f] = float(history.frame_ms(f));
