@@ -14,6 +14,7 @@
 #include "engine/image_metrics.h"
 #include "engine/rng.h"
 #include "engine/surface.h"
+#include "tests/render_helpers.h"
 #include "tests/test_util.h"
 
 namespace candela {
@@ -57,7 +58,7 @@ Scene point_lit_floor(float h, const vec3& intensity, const vec3& albedo) {
 
 Image render_image(const Scene& scene, RenderSettings settings, int frames = 1) {
   Renderer renderer(scene, settings);
-  for (int f = 0; f < frames; ++f) renderer.render_frame(f, 0.0f, *scene.camera);
+  for (int f = 0; f < frames; ++f) testing::render_checked(renderer, f, 0.0f, *scene.camera);
   return renderer.image();
 }
 
