@@ -7,8 +7,10 @@ vec3 dielectric_f0(float ior, const vec3& specular_color) {
   return glm::min(r * r * specular_color, vec3(1.0f));
 }
 
-// Kulla & Conty's F_ms for Schlick's Fresnel (F0, F90) at average single-scattering albedo a_avg.
+// Kulla & Conty's F_ms for Schlick's Fresnel (F0, F90) at average single-scattering albedo a_avg; 0 when
+// the lobe has no Fresnel at all (F90 = 0).
 static vec3 multiple_scattering_fresnel(const vec3& f0, float f90, float a_avg) {
+  if (f90 <= 0.0f) return vec3(0.0f);
   vec3 f_avg = f0 + (vec3(f90) - f0) * (1.0f / 21.0f);
   return f_avg * f_avg * a_avg / (vec3(1.0f) - f_avg * (1.0f - a_avg));
 }
@@ -22,21 +24,25 @@ Bsdf::Bsdf(const vec3& n, const vec3& base_color, float metallic, float roughnes
   f0_ = glm::mix(d_f0_, base_color, m);
   f90_ = glm::mix(s, 1.0f, m);
   GgxAlbedo avg = albedo_.average();
-  d_ms_ = multiple_scattering_fresnel(d_f0_, d_f90_, avg.a);
-  vec3 f_ms = glm::mix(d_ms_, multiple_scattering_fresnel(base_color, 1.0f, avg.a), m);
+  d_ms_ = m < 1.0f ? multiple_scattering_fresnel(d_f0_, d_f90_, avg.a) : vec3(0.0f);
+  vec3 f_ms = m > 0.0f ? glm::mix(d_ms_, multiple_scattering_fresnel(base_color, 1.0f, avg.a), m) : d_ms_;
   ms_ = f_ms * (kInvPi / std::max(1.0f - avg.a, 1e-6f));
-  ms_albedo_ = luminance(f_ms);
-  base_ = base_color * (1.0f - m);
+  vec3 base = base_color * (1.0f - m);
   vec3 layer_avg = layer_albedo(avg);
-  for (int c = 0; c < 3; ++c) base_scale_[c] = layer_avg[c] < 0.9999f ? base_[c] * kInvPi / (1.0f - layer_avg[c]) : 0.0f;
+  base_scale_ = glm::mix(base * kInvPi / glm::max(vec3(1.0f) - layer_avg, vec3(1e-4f)), vec3(0.0f),
+                         glm::greaterThanEqual(layer_avg, vec3(0.9999f)));
+  lum_ = {luminance(f0_), luminance(f_ms), luminance(base), luminance(base * d_f0_), luminance(base * d_ms_)};
 }
 
 // Probability of sampling the single-scattering lobe: its share of the albedo at the outgoing angle (the
-// multiple-scattering and base lobes are sampled by the cosine).
+// multiple-scattering and base lobes are sampled by the cosine). Luminance is linear, so the albedos'
+// luminances come from the constructor's five.
 float Bsdf::specular_probability(const GgxAlbedo& e_o) const {
-  float spec = luminance(f0_ * (e_o.a - e_o.b) + vec3(f90_ * e_o.b));
+  float a = e_o.a, b = e_o.b;
+  float spec = lum_.f0 * (a - b) + f90_ * b;
   if (spec <= 0.0f) return 0.0f;
-  float rest = ms_albedo_ * (1.0f - e_o.a) + luminance(base_ * glm::max(vec3(1.0f) - layer_albedo(e_o), vec3(0.0f)));
+  float layer = lum_.base_d_f0 * (a - b) + lum_.base * d_f90_ * b + lum_.base_d_ms * (1.0f - a);
+  float rest = lum_.ms * (1.0f - a) + std::max(lum_.base - layer, 0.0f);
   return std::clamp(spec / (spec + rest), 0.1f, 0.9f);
 }
 

@@ -56,9 +56,12 @@ class Bsdf {
   vec3 f0_{0.04f};           // F0 of the single-scattering lobe
   float f90_ = 1.0f;         // F90 of it
   vec3 ms_{0.0f};            // F_ms / (pi (1 - a_avg)): f_ms = ms_ (1 - a(mu_o)) (1 - a(mu_i))
-  float ms_albedo_ = 0.0f;   // luminance of F_ms (f_ms's albedo is F_ms (1 - a(mu_o)))
-  vec3 base_{0.0f};          // (1 - metallic) base
-  vec3 base_scale_{0.0f};    // base_ / (pi (1 - E_d_avg)): f_base = base_scale_ (1 - E_d(mu_o)) (1 - E_d(mu_i))
+  vec3 base_scale_{0.0f};    // (1 - metallic) base / (pi (1 - E_d_avg)):
+                             // f_base = base_scale_ (1 - E_d(mu_o)) (1 - E_d(mu_i))
+  struct {                   // luminances for the lobe choice, with base = (1 - metallic) base colour:
+    float f0, ms, base;      //   of f0_, F_ms, base,
+    float base_d_f0, base_d_ms;  // base d_f0_ and base d_ms_
+  } lum_{};
   vec3 d_f0_{0.0f}, d_ms_{0.0f};  // the dielectric layer's s F0_d and its F_ms
   float d_f90_ = 0.0f;            // and its F90 = s
   float alpha_ = 1.0f;            // GGX alpha = roughness^2

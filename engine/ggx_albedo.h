@@ -10,7 +10,9 @@
 // roughness r (alpha = r^2), read with bilinear interpolation; the cosine-weighted averages
 // a_avg = 2 int a(mu) mu dmu (and b_avg) are integrals of that interpolant, exact up to float rounding, so
 // a lobe (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)) integrates to exactly 1 - E(mu_o).
-// The table is computed at build time (ggx_albedo_gen.cpp); a lookup is four 8-byte loads and a sqrt.
+// The table is computed at build time (ggx_albedo_gen.cpp) into ggx_albedo_table.cpp; a lookup is four
+// 8-byte loads and a sqrt, inline here.
+#include "engine/ggx_albedo_data.h"
 #include "engine/math.h"
 
 namespace candela {
@@ -25,9 +27,27 @@ struct GgxAlbedo {
 class GgxAlbedoRow {
  public:
   GgxAlbedoRow() : GgxAlbedoRow(1.0f) {}
-  explicit GgxAlbedoRow(float roughness);
-  GgxAlbedo at(float cos_theta) const;  // directional albedo for mu = cos_theta in [0, 1]
-  GgxAlbedo average() const;            // cosine-weighted hemispherical average (a_avg, b_avg)
+  explicit GgxAlbedoRow(float roughness) {
+    float x = std::clamp(roughness, 0.0f, 1.0f) * float(kGgxAlbedoRoughnessCount - 1);
+    int k = std::min(int(x), kGgxAlbedoRoughnessCount - 2);
+    t_ = x - float(k);
+    row0_ = &kGgxAlbedoEntries[size_t(k) * kGgxAlbedoMuCount * 2];
+    row1_ = row0_ + kGgxAlbedoMuCount * 2;
+    const float* avg = &kGgxAlbedoAverages[2 * size_t(k)];
+    avg_ = {avg[0] + t_ * (avg[2] - avg[0]), avg[1] + t_ * (avg[3] - avg[1])};
+  }
+  // Directional albedo for mu = cos_theta in [0, 1] (inline: the BSDF calls it twice per evaluation).
+  GgxAlbedo at(float cos_theta) const {
+    float x = std::sqrt(std::clamp(cos_theta, 0.0f, 1.0f)) * float(kGgxAlbedoMuCount - 1);
+    int j = std::min(int(x), kGgxAlbedoMuCount - 2);
+    float s = x - float(j);
+    const float* p0 = row0_ + 2 * j;
+    const float* p1 = row1_ + 2 * j;
+    float a0 = p0[0] + s * (p0[2] - p0[0]), b0 = p0[1] + s * (p0[3] - p0[1]);
+    float a1 = p1[0] + s * (p1[2] - p1[0]), b1 = p1[1] + s * (p1[3] - p1[1]);
+    return {a0 + t_ * (a1 - a0), b0 + t_ * (b1 - b0)};
+  }
+  GgxAlbedo average() const { return avg_; }  // cosine-weighted hemispherical average (a_avg, b_avg)
 
  private:
   const float* row0_ = nullptr;  // (a, b) pairs of the table row of the lower roughness

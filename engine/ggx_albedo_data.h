@@ -1,6 +1,6 @@
 #pragma once
 // The albedo table's layout, shared by its generator (ggx_albedo_gen.cpp, run at build time) and its reader
-// (ggx_albedo.cpp). Rows per roughness r = k / (kGgxAlbedoRoughnessCount - 1), columns per
+// (ggx_albedo.h). Rows per roughness r = k / (kGgxAlbedoRoughnessCount - 1), columns per
 // sqrt(mu) = j / (kGgxAlbedoMuCount - 1), (a, b) per entry.
 namespace candela {
 
