@@ -15,7 +15,7 @@
 //            scattering, albedo E_d) does not reflect: Kulla & Conty's albedo scaling in its reciprocal form
 //            (the same layering OpenPBR and Autodesk Standard Surface specify).
 // A white dielectric therefore reflects all incident energy at every angle, a white metal all of it too
-// (up to the tables' interpolation, ~0.1%), and s = 0 leaves exactly Lambert. Albedo tables: ggx_albedo.h.
+// (up to the tables' interpolation: 0.1%, 0.2% at grazing angles), and s = 0 leaves exactly Lambert. Albedo tables: ggx_albedo.h.
 // Directions are world-space unit vectors pointing away from the surface; eval returns f without the
 // cosine. Reflection only (no transmission).
 #include "engine/ggx_albedo.h"
