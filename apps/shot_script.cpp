@@ -138,6 +138,10 @@ json parse_file(const std::string& path) {
     std::string what = e.what();
     what = what.substr(what.find(':') + 2);  // drop nlohmann's "[json.exception.parse_error.101] parse error at ..."
     throw InputError(path + ": " + line_and_column(text, e.byte > 0 ? e.byte - 1 : 0) + ": invalid JSON: " + what);
+  } catch (const json::out_of_range& e) {
+    // A number beyond double's range ("1e999"): nlohmann's error 406, which carries no position.
+    std::string what = e.what();
+    throw InputError(path + ": invalid JSON: " + what.substr(what.find("] ") + 2));  // drop "[json.exception...] "
   }
 }
 
