@@ -13,9 +13,10 @@ TSAN_BUILD ?= build-tsan
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 60
 # Left out under sanitizers: the convergence studies (minutes at -O1 with checks, and they only repeat
-# code the other tests run), the resident-memory test (ASan's quarantine grows the heap by design) and the
-# two GLX window tests (Mesa's leaks there cannot be suppressed by name: tests/lsan.supp).
-SANITIZE_EXCLUDE ?= ^(Convergence\.|ViewerHeadless\.ResidentMemoryStableOver1000Frames$$|cli\.view_window)
+# code the other tests run) and the viewer's OpenGL tests (ViewerHeadless.*, cli.view_*): Mesa leaks in
+# libraries it unloads before the leak report (no suppression can name them), and a sanitized headless
+# view was seen to hang inside Mesa for 14 minutes. --timeout stops any other hang.
+SANITIZE_EXCLUDE ?= ^(Convergence\.|ViewerHeadless\.|cli\.view_)
 SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1 \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 
@@ -43,7 +44,7 @@ bench: build
 test-sanitize: deps
 	@cmake -S . -B $(SANITIZE_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DCANDELA_SANITIZE=address,undefined > /dev/null
 	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
-	@cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS) -E '$(SANITIZE_EXCLUDE)'
+	@cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure --timeout 600 -j $(JOBS) -E '$(SANITIZE_EXCLUDE)'
 
 test-tsan: deps
 	@cmake -S . -B $(TSAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DCANDELA_SANITIZE=thread -DBUILD_TESTING=OFF > /dev/null
