@@ -13,8 +13,9 @@ void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, Colo
     for (size_t i = size_t(y) * g.width, end = i + g.width; i < end; ++i) {
       vec3 e = guides.filtered[i] ? (noisy.pixels[i] - g.emission[i]) / albedo_floor(g.albedo[i])
                                   : g.hit(i) ? noisy.pixels[i] : vec3(0.0f);
-      illumination.set(i, is_finite(e) ? e : vec3(0.0f));
-      if (!is_finite(e)) non_finite.add(1);
+      bool finite = is_finite(e);
+      illumination.set(i, finite ? e : vec3(0.0f));
+      if (!finite) non_finite.add(1);
     }
   });
 }
