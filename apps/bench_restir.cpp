@@ -5,7 +5,6 @@
 // trace them), generated before the clock starts. The ratio frame / rays is what the stages between the
 // rays cost. Then the whole ReSTIR frame, DI + GI (`--method restir`, paths up to 8 bounces), with its stages.
 #include <benchmark/benchmark.h>
-#include <tbb/parallel_for.h>
 
 #include <functional>
 #include <map>
@@ -14,6 +13,7 @@
 #include "apps/bench.h"
 #include "apps/renderer.h"
 #include "apps/scene_source.h"
+#include "engine/parallel.h"
 
 namespace candela {
 
@@ -53,11 +53,11 @@ uint64_t trace_alone(const RestirBenchScene& s) {
   const Tracer& tracer = s.renderer->tracer();
   const GBuffer& g = s.renderer->gbuffer();
   uint64_t rays = raw_primary_packets(tracer, Camera(s.camera, g.width, g.height));
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, s.bsdf_rays.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
-    for (size_t k = range.begin(); k < range.end(); ++k) benchmark::DoNotOptimize(tracer.intersect(s.bsdf_rays[k]));
+  parallel_for_ranges(size_t(0), s.bsdf_rays.size(), size_t(1024), [&](size_t b, size_t e) {
+    for (size_t k = b; k < e; ++k) benchmark::DoNotOptimize(tracer.intersect(s.bsdf_rays[k]));
   });
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, s.shadow_rays.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
-    for (size_t k = range.begin(); k < range.end(); ++k) benchmark::DoNotOptimize(tracer.occluded(s.shadow_rays[k]));
+  parallel_for_ranges(size_t(0), s.shadow_rays.size(), size_t(1024), [&](size_t b, size_t e) {
+    for (size_t k = b; k < e; ++k) benchmark::DoNotOptimize(tracer.occluded(s.shadow_rays[k]));
   });
   return rays + s.bsdf_rays.size() + s.shadow_rays.size();
 }

@@ -1,12 +1,11 @@
 #pragma once
 // Image planes of the denoisers (structure of arrays: one contiguous float array per channel, so that a
 // row of pixels is a run of floats the compiler vectorises) and the row-parallel loop every stage uses.
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <vector>
 
 #include "engine/math.h"
+#include "engine/parallel.h"
 #include "engine/tracer.h"
 
 namespace candela {
@@ -35,9 +34,9 @@ struct ColorPlanes {
 // flush-to-zero set). Stages write only their own rows, so the result does not depend on the split.
 template <class Fn>
 void for_each_row(int height, Fn&& fn) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, height, 4), [&](const tbb::blocked_range<int>& rows) {
+  parallel_for_ranges(0, height, 4, [&](int y0, int y1) {
     enable_ftz_daz();
-    for (int y = rows.begin(); y < rows.end(); ++y) fn(y);
+    for (int y = y0; y < y1; ++y) fn(y);
   });
 }
 

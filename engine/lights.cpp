@@ -1,8 +1,8 @@
 #include "engine/lights.h"
 
-#include <tbb/parallel_for.h>
 
 #include "engine/check.h"
+#include "engine/parallel.h"
 #include "engine/surface.h"
 
 namespace candela {
@@ -44,7 +44,7 @@ static MeshEmission analyse_mesh(const Scene& scene, const Mesh& mesh) {
   MeshEmission me;
   if (!scene.materials[mesh.material].emissive()) return me;
   std::vector<vec3> avg(mesh.triangles.size());
-  tbb::parallel_for(size_t(0), mesh.triangles.size(), [&](size_t i) { avg[i] = integrate_triangle_emission(scene, mesh, uint32_t(i)); });
+  parallel_for(size_t(0), mesh.triangles.size(), [&](size_t i) { avg[i] = integrate_triangle_emission(scene, mesh, uint32_t(i)); });
   me.light_of_prim.assign(mesh.triangles.size(), -1);
   for (size_t i = 0; i < avg.size(); ++i) {
     if (max_component(avg[i]) <= kEmissionThreshold) continue;

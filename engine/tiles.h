@@ -1,9 +1,8 @@
 #pragma once
-// Tile-parallel loop over an image: square tiles handed to TBB workers, each worker with flush-to-zero
+// Tile-parallel loop over an image: square tiles handed to TBB workers (engine/parallel.h), each worker with flush-to-zero
 // set. The result never depends on which thread ran which tile (stages key randomness on pixels).
-#include <tbb/parallel_for.h>
-
 #include "engine/frame_stats.h"
+#include "engine/parallel.h"
 #include "engine/tracer.h"
 
 namespace candela {
@@ -17,7 +16,7 @@ inline constexpr int kTileWidth = 64, kTileHeight = 4;
 template <class Fn>
 void for_each_tile(int width, int height, Fn&& fn) {
   int tiles_x = (width + kTileWidth - 1) / kTileWidth, tiles_y = (height + kTileHeight - 1) / kTileHeight;
-  tbb::parallel_for(0, tiles_x * tiles_y, [&](int t) {
+  parallel_for(0, tiles_x * tiles_y, [&](int t) {
     enable_ftz_daz();
     int x0 = (t % tiles_x) * kTileWidth, y0 = (t / tiles_x) * kTileHeight;
     fn(Tile{x0, y0, std::min(x0 + kTileWidth, width), std::min(y0 + kTileHeight, height)});

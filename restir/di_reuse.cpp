@@ -1,6 +1,6 @@
 #include "restir/di_reuse.h"
 
-#include <tbb/parallel_for.h>
+#include "engine/parallel.h"
 
 namespace candela {
 
@@ -261,7 +261,7 @@ void di_boiling_filter(const DiDomain& current, float threshold, std::vector<DiR
   constexpr int kBlock = 16;
   const int bw = (current.width + kBlock - 1) / kBlock, bh = (current.height + kBlock - 1) / kBlock;
   auto contribution = [&](size_t i) { return reservoirs[i].p_hat_y * reservoirs[i].W; };
-  tbb::parallel_for(0, bw * bh, [&](int b) {
+  parallel_for(0, bw * bh, [&](int b) {
     const int x0 = (b % bw) * kBlock, y0 = (b / bw) * kBlock;
     const int x1 = std::min(x0 + kBlock, current.width), y1 = std::min(y0 + kBlock, current.height);
     double sum = 0.0;

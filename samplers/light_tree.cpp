@@ -1,10 +1,10 @@
 #include "samplers/light_tree.h"
 
-#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 
 #include "engine/check.h"
+#include "engine/parallel.h"
 
 namespace candela {
 
@@ -176,7 +176,7 @@ int LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t en
   int depth_first = 0, depth_second = 0;
   auto first = [&] { depth_first = build(entries, begin, mid, node + 1, trail, depth + 1); };
   auto other = [&] { depth_second = build(entries, mid, end, second, trail | (uint64_t(1) << depth), depth + 1); };
-  if (end - begin > kParallelGrain) tbb::parallel_invoke(first, other);
+  if (end - begin > kParallelGrain) parallel_invoke(first, other);
   else { first(); other(); }
   return std::max(depth_first, depth_second);
 }
@@ -259,7 +259,7 @@ void LightTreeSampler::refit(const LightList& lights, uint32_t node, uint32_t en
   }
   auto first = [&] { refit(lights, node + 1, n.index); };
   auto other = [&] { refit(lights, n.index, end); };
-  if (end - node > kParallelGrain) tbb::parallel_invoke(first, other);
+  if (end - node > kParallelGrain) parallel_invoke(first, other);
   else { first(); other(); }
   n.bounds = merge(nodes_[node + 1].bounds, nodes_[n.index].bounds);
 }

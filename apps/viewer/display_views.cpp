@@ -1,8 +1,8 @@
 #include "apps/viewer/display_views.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
+
+#include "engine/parallel.h"
 
 namespace candela {
 
@@ -67,7 +67,7 @@ Image display_view_image(const Renderer& renderer, DisplayView view) {
 
 Rgba8Image to_display_pixels(const Image& image, bool tonemap, float exposure) {
   Rgba8Image out{image.width, image.height, std::vector<uint8_t>(image.pixels.size() * 4)};
-  tbb::parallel_for(0, image.height, [&](int y) {
+  parallel_for(0, image.height, [&](int y) {
     for (int x = 0; x < image.width; ++x) {
       size_t i = size_t(y) * image.width + x;
       vec3 c = tonemap ? tonemap_srgb(image.pixels[i], exposure) : glm::clamp(image.pixels[i], 0.0f, 1.0f);
