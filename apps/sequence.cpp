@@ -43,7 +43,7 @@ void write_frame(const ShotScript& script, const Renderer& renderer, int frame) 
 }
 
 // Per-frame stats of this run: STATS.csv gets one row per stage and frame as each frame ends (long
-// format: frame, written, scene time, spp, stage, ms, rays; stage "total" for the frame), STATS.json
+// format: frame, written, scene time, spp, stage, ms, rays, non_finite; stage "total" for the frame), STATS.json
 // is rewritten atomically after each frame (stats_to_json plus "written" and "time").
 class StatsFiles {
  public:
@@ -51,15 +51,15 @@ class StatsFiles {
     if (base_.empty()) return;
     csv_.open(base_ + ".csv", std::ios::trunc);
     if (!csv_) throw InputError(base_ + ".csv: cannot open for writing");
-    csv_ << "frame,written,time_s,spp,stage,ms,rays\n";
+    csv_ << "frame,written,time_s,spp,stage,ms,rays,non_finite\n";
   }
   void add(const FrameStats& stats, bool written, float time) {
     if (base_.empty()) return;
-    auto row = [&](const std::string& stage, double ms, uint64_t rays) {
-      csv_ << stats.frame << ',' << int(written) << ',' << time << ',' << stats.spp << ',' << stage << ',' << ms << ',' << rays << '\n';
+    auto row = [&](const std::string& stage, double ms, uint64_t rays, uint64_t non_finite) {
+      csv_ << stats.frame << ',' << int(written) << ',' << time << ',' << stats.spp << ',' << stage << ',' << ms << ',' << rays << ',' << non_finite << '\n';
     };
-    for (const StageStats& s : stats.stages) row(s.name, s.ms, s.rays);
-    row("total", stats.total_ms, stats.rays());
+    for (const StageStats& s : stats.stages) row(s.name, s.ms, s.rays, s.non_finite);
+    row("total", stats.total_ms, stats.rays(), stats.non_finite());
     csv_.flush();
     nlohmann::json entry = stats_to_json({stats})[0];
     entry["written"] = written;

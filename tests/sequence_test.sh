@@ -5,7 +5,8 @@
 #     leaves their files untouched (same mtimes) and writes the other 6;
 #  2. two shard processes (--frames 0:6 and 7:9, run at the same time; the second warms up on 5 and 6)
 #     and the resumed run equal a single run: PNGs byte for byte, EXRs pixel-exact (`candela compare`
-#     gives MSE 0; EXR headers carry a capture date, so their bytes differ).
+#     gives MSE 0; EXR headers carry a capture date, so their bytes differ), and the shard's stats CSV has
+#     its columns, a total row per frame and no dropped non-finite value.
 # usage: sequence_test.sh CANDELA SCRIPT WORKDIR
 set -euo pipefail
 candela=$1; script=$2; work=$3
@@ -29,6 +30,10 @@ cd "$work/shards"
 "$candela" render --script "$script" --frames 7:9 -q
 wait $first
 [ -s out/stats_0-6.csv ] && [ -s out/stats_7-9.json ] || fail "shard stats missing"
+# The stats CSV: its header, one row per stage and frame plus "total", and no non-finite value dropped.
+[ "$(head -1 out/stats_0-6.csv)" = "frame,written,time_s,spp,stage,ms,rays,non_finite" ] || fail "stats CSV header: $(head -1 out/stats_0-6.csv)"
+[ "$(grep -c ',total,' out/stats_0-6.csv)" = 7 ] || fail "stats CSV has $(grep -c ',total,' out/stats_0-6.csv) total rows for 7 frames"
+awk -F, 'NR > 1 && $8 != 0 { bad = 1 } END { exit bad }' out/stats_0-6.csv || fail "stats CSV reports non-finite values"
 
 for run in shards resume; do
   for f in 0 1 2 3 4 5 6 7 8 9; do
