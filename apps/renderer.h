@@ -91,6 +91,10 @@ class Renderer {
   // restir-di, restir: the reservoirs the last frame shaded with (empty for other methods).
   const std::vector<DiReservoir>& di_reservoirs() const { return di_.history; }
   const std::vector<DiReservoir>& gi_reservoirs() const { return gi_.history; }
+  // restir-di, restir: the packed surfaces and light placement of the last frame and of the one before
+  // (what reuse's target functions read; the weight tests build combinations from them).
+  DiDomain current_domain() const;
+  DiDomain previous_domain() const;
   const Scene& scene() const { return scene_; }
   const LightList& lights() const { return lights_; }
   const Tracer& tracer() const { return *tracer_; }
@@ -102,8 +106,6 @@ class Renderer {
   void restir_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats);
   void reuse_and_shade(const SceneView& view, const std::string& prefix, const DiReuseParams& reuse, int key, int pass,
                        const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats);
-  DiDomain current_domain() const;
-  DiDomain previous_domain() const;
 
   Scene scene_;
   RenderSettings settings_;

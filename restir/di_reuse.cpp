@@ -6,16 +6,6 @@ namespace candela {
 
 namespace {
 
-// One input of a combination: a reservoir and the domain/pixel whose target function produced it.
-struct ReuseInput {
-  const DiReservoir* reservoir;
-  const DiDomain* domain;
-  size_t pixel;
-  float M;  // confidence used for this input (capped for history)
-  int8_t own_visible = -1;  // 1 or 0: whether the reservoir's sample is visible from its own surface, when
-                            // known already; -1: a ray finds out if a weight needs it
-};
-
 // Whether surface b may share samples with surface a (shading normal a_n): close in depth and orientation.
 bool similar(const DiSurface& a, const vec3& a_n, const DiSurface& b, const DiReuseParams& p) {
   if (!b.hit() || std::abs(a.depth - b.depth) > p.depth_tolerance * a.depth) return false;
@@ -50,21 +40,37 @@ bool occluded_from(const SceneView& view, const DiReceiver& receiver, const Plac
   return view.tracer.occluded(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, ls));
 }
 
-// Generalized balance heuristic: m_k(y) = M_k p_k(y) / sum_z M_z p_z(y). Evaluates every input's target,
-// with `visibility` times the visibility of y from each input's surface (Bitterli et al. 2020, sec. 4.3:
-// unbiased also when reservoirs were visibility-tested), tracing up to `count` rays.
-float basic_weight(const SceneView& view, const ReuseInput* inputs, const DiReceiver* receivers, int count, int k,
-                   const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
+// p_z(y): input z's target at sample y of input `source`, as the MIS weights use it. The combining
+// pixel's value (z = 0) is known already, and so is the source's own: the one its reservoir stored.
+float input_target(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int z, int source,
+                   const PlacedSample& y, float p_hat_here) {
+  if (z == 0) return p_hat_here;
+  if (z == source) return inputs[source].reservoir->p_hat_y;
+  return target_at(view, receivers[z], y);
+}
+
+// Whether y is visible from input z's surface: the spatial pass's answer for a source's own sample when
+// it has one, otherwise one shadow ray (counted in `rays`).
+bool input_sees(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int z, int source,
+                const PlacedSample& y, uint64_t& rays) {
+  if (z == source && inputs[z].own_visible >= 0) return inputs[z].own_visible == 1;
+  ++rays;
+  return !occluded_from(view, receivers[z], y);
+}
+
+// Generalized balance heuristic: m_k(y) = M_k p_k(y) / sum_z M_z p_z(y), for input k = `role` and y the
+// sample of input `source`. Evaluates every input's target, with `visibility` times the visibility of y
+// from each input's surface (Bitterli et al. 2020, sec. 4.3: unbiased also when reservoirs were
+// visibility-tested), tracing up to `count` rays.
+float basic_weight(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int count, int source,
+                   int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   float numerator = 0.0f, denominator = 0.0f;
   for (int z = 0; z < count; ++z) {
-    float p = z == 0 ? p_hat_here : z == k ? inputs[k].reservoir->p_hat_y : target_at(view, receivers[z], y);
-    if (visibility && p > 0.0f) {
-      ++rays;
-      if (occluded_from(view, receivers[z], y)) p = 0.0f;
-    }
+    float p = input_target(view, inputs, receivers, z, source, y, p_hat_here);
+    if (visibility && p > 0.0f && !input_sees(view, inputs, receivers, z, source, y, rays)) p = 0.0f;
     float term = inputs[z].M * p;
     denominator += term;
-    if (z == k) numerator = term;
+    if (z == role) numerator = term;
   }
   return denominator > 0.0f ? numerator / denominator : 0.0f;
 }
@@ -74,39 +80,62 @@ float basic_weight(const SceneView& view, const ReuseInput* inputs, const DiRece
 // each pair splits a 1/n share by a two-technique balance heuristic in which the canonical counts M_c / n:
 //   m_i(y) = (1/n) M_i p_i(y) / (M_i p_i(y) + (M_c/n) p_c(y))                       (i > 0)
 //   m_c(y) = (1/n) sum_i (M_c/n) p_c(y) / (M_i p_i(y) + (M_c/n) p_c(y))
-// The weights sum to one wherever p_c > 0, so the combination stays unbiased, at O(n) target
-// evaluations instead of O(n^2). p_i(y_i) is the value stored in input i's reservoir. With `visibility`,
-// every neighbour's p_i(y) counts only if y is visible from its surface, in both formulas alike (up to 2n
-// shadow rays; the spatial pass answers the own-sample half once per pixel beforehand): inputs whose
-// samples are visible by construction (ReSTIR GI's, or visibility-tested candidates) rarely produce an
-// occluded y, and weighting them as if they did darkened the image; using V_i in one
-// formula only made the weights of a sample sum to more than one, which temporal reuse amplified without
-// bound (measured). p_c needs no visibility: where y is occluded from the canonical pixel, it shades to
-// zero whatever its weight.
-float pairwise_weight(const SceneView& view, const ReuseInput* inputs, const DiReceiver* receivers, int count, int k,
-                      const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
+// (here for input `role` and the sample y of input `source`). The weights sum to one wherever p_c > 0,
+// which covers every y the canonical pixel's integrand is non-zero at, so the combination stays unbiased,
+// at O(n) target evaluations instead of O(n^2). With `visibility`, every neighbour's p_i(y) counts only if
+// y is visible from its surface, in both formulas alike (up to 2n shadow rays; the spatial pass answers
+// the own-sample half once per pixel beforehand): inputs whose samples are visible by construction
+// (ReSTIR GI's, or visibility-tested candidates) rarely produce an occluded y, and weighting them as if
+// they did darkened the image; using V_i in one formula only made the weights of a sample sum to more
+// than one, which temporal reuse amplified without bound (measured). p_c needs no visibility: where y is
+// occluded from the canonical pixel, it shades to zero whatever its weight.
+float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int count,
+                      int source, int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   const int n = count - 1;
   if (n == 0) return 1.0f;
-  auto visible_from = [&](int z) {
-    ++rays;
-    return !occluded_from(view, receivers[z], y);
-  };
   const float canonical = inputs[0].M / float(n) * p_hat_here;
-  if (k > 0) {
-    float term = inputs[k].M * inputs[k].reservoir->p_hat_y;
-    if (visibility && term > 0.0f) {
-      const bool own_visible = inputs[k].own_visible >= 0 ? inputs[k].own_visible == 1 : visible_from(k);
-      if (!own_visible) term = 0.0f;
-    }
-    return term + canonical > 0.0f ? term / (term + canonical) / float(n) : 0.0f;
+  auto term = [&](int i) {
+    float t = inputs[i].M * input_target(view, inputs, receivers, i, source, y, p_hat_here);
+    return visibility && t > 0.0f && !input_sees(view, inputs, receivers, i, source, y, rays) ? 0.0f : t;
+  };
+  if (role > 0) {
+    const float t = term(role);
+    return t + canonical > 0.0f ? t / (t + canonical) / float(n) : 0.0f;
   }
   float m = 0.0f;
   for (int i = 1; i < count; ++i) {
-    float term = inputs[i].M * target_at(view, receivers[i], y);
-    if (visibility && term > 0.0f && !visible_from(i)) term = 0.0f;
-    m += term + canonical > 0.0f ? canonical / (term + canonical) : 1.0f;
+    const float t = term(i);
+    if (t + canonical > 0.0f) m += canonical / (t + canonical);
   }
   return m / float(n);
+}
+
+// The weight m_role(y) of params.bias for the sample y of input `source`, placed for input 0 (where
+// input 0's target is p_hat_here).
+float mis_weight(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int count, int source,
+                 int role, const PlacedSample& y, float p_hat_here, const DiReuseParams& params, uint64_t& rays) {
+  switch (params.bias) {
+    case DiBiasCorrection::None: {
+      float M_total = 0.0f;
+      for (int z = 0; z < count; ++z) M_total += inputs[z].M;
+      return inputs[role].M / M_total;
+    }
+    case DiBiasCorrection::Basic:
+      return basic_weight(view, inputs, receivers, count, source, role, y, p_hat_here, params.mis_visibility, rays);
+    case DiBiasCorrection::Pairwise:
+      return pairwise_weight(view, inputs, receivers, count, source, role, y, p_hat_here, params.mis_visibility, rays);
+  }
+  return 0.0f;
+}
+
+// Input k's sample as placed for the combining pixel (input 0): re-placed only where input 0's frame
+// placed the lights differently (moving lights, temporal reuse).
+DiSample placed_for_combiner(const SceneView& view, const DiReuseInput& in, const LightList* here_lights) {
+  const DiSample& own = in.reservoir->y;
+  if (&in.domain->lights == here_lights || own.light == kSurfacePointSample) return own;
+  DiSample here = di_resolve(view.scene, *here_lights, own.light, own.uv);
+  here.age = own.age;
+  return here;
 }
 
 // |J| of moving a surface-point sample's reconnection from `own` to `here` (Ouyang et al. 2021, eq. 11):
@@ -124,21 +153,18 @@ float reconnection_jacobian(const LightPoint& sample, const vec3& here, const ve
 // Combines the inputs into one reservoir for the pixel of inputs[0] (the receiver's own reservoir); the
 // result's sample is placed in input 0's frame. The canonical input's target at its own sample is the one
 // its reservoir stored.
-DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, const DiReuseParams& params, Rng& rng,
+DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count, const DiReuseParams& params, Rng& rng,
                     uint64_t& rays) {
-  const DiBiasCorrection bias = params.bias;
   DiReservoir out;
-  float M_total = 0.0f;
-  for (int k = 0; k < count; ++k) M_total += inputs[k].M;
   // Every input's pixel as a receiver, built once (the MIS weights evaluate other inputs' targets), in
   // a per-thread buffer: constructing a fixed array of 32 receivers per pixel cost more than using them.
   thread_local std::vector<DiReceiver> receivers;
   receivers.clear();
-  const int built = bias == DiBiasCorrection::None ? 1 : count;
+  const int built = params.bias == DiBiasCorrection::None ? 1 : count;
   for (int z = 0; z < built; ++z) receivers.push_back(di_receiver(*inputs[z].domain, inputs[z].pixel));
   const LightList* here_lights = receivers[0].lights;
   for (int k = 0; k < count; ++k) {
-    const ReuseInput& in = inputs[k];
+    const DiReuseInput& in = inputs[k];
     float u = rng.next_float();
     out.M += in.M;
     if (in.reservoir->W <= 0.0f) continue;
@@ -146,19 +172,10 @@ DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, 
     if (k > 0 && own.light == kSurfacePointSample && params.max_jacobian > 0.0f &&
         reconnection_jacobian(own.point, receivers[0].position, in.domain->surfaces[in.pixel].position) > params.max_jacobian)
       continue;
-    const LightList* own_lights = &in.domain->lights;
-    DiSample here = own;
-    if (own_lights != here_lights && own.light != kSurfacePointSample) {
-      here = di_resolve(view.scene, *here_lights, own.light, own.uv);
-      here.age = own.age;
-    }
-    const PlacedSample y{own, own_lights, here, here_lights};
+    const DiSample here = placed_for_combiner(view, in, here_lights);
+    const PlacedSample y{own, &in.domain->lights, here, here_lights};
     float p_hat_here = k == 0 ? in.reservoir->p_hat_y : di_target(di_contribution(receivers[0], here));
-    float m = in.M / M_total;
-    if (bias == DiBiasCorrection::Basic)
-      m = basic_weight(view, inputs, receivers.data(), count, k, y, p_hat_here, params.mis_visibility, rays);
-    if (bias == DiBiasCorrection::Pairwise)
-      m = pairwise_weight(view, inputs, receivers.data(), count, k, y, p_hat_here, params.mis_visibility, rays);
+    float m = mis_weight(view, inputs, receivers.data(), count, k, k, y, p_hat_here, params, rays);
     out.update(here, m * p_hat_here * in.reservoir->W, p_hat_here, u);
   }
   out.finalize();
@@ -166,6 +183,18 @@ DiReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, 
 }
 
 }  // namespace
+
+void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source, const DiReuseParams& params,
+                    float* weights) {
+  std::vector<DiReceiver> receivers;
+  for (int z = 0; z < count; ++z) receivers.push_back(di_receiver(*inputs[z].domain, inputs[z].pixel));
+  const DiSample here = placed_for_combiner(view, inputs[source], receivers[0].lights);
+  const PlacedSample y{inputs[source].reservoir->y, &inputs[source].domain->lights, here, receivers[0].lights};
+  const float p_hat_here = source == 0 ? inputs[0].reservoir->p_hat_y : di_target(di_contribution(receivers[0], here));
+  uint64_t rays = 0;
+  for (int role = 0; role < count; ++role)
+    weights[role] = mis_weight(view, inputs, receivers.data(), count, source, role, y, p_hat_here, params, rays);
+}
 
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
@@ -192,7 +221,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));
     if (params.max_sample_age > 0 && aged.y.age > params.max_sample_age) return 0;
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
-    ReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
+    DiReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
                             {&aged, &previous, j, std::min(aged.M, params.history_cap * reservoirs[i].M)}};
     uint64_t traced = 0;
     out[i] = combine(view, inputs, 2, params, rng, traced);
@@ -225,7 +254,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     const int neighbours = boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, 31);
     Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
-    ReuseInput inputs[32];
+    DiReuseInput inputs[32];
     int count = 0;
     inputs[count++] = {&in[i], &current, i, in[i].M};
     // Neighbours: uniform points in the disk of the given radius, by rejection from the square (no

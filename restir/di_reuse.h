@@ -49,6 +49,23 @@ struct DiReuseParams {
   uint64_t seed = 0;
 };
 
+// One input of a combination: a reservoir and the domain/pixel whose target function produced it.
+struct DiReuseInput {
+  const DiReservoir* reservoir;
+  const DiDomain* domain;
+  size_t pixel;
+  float M;                  // confidence used for this input (capped for history)
+  int8_t own_visible = -1;  // 1 or 0: whether the reservoir's sample is visible from its own surface, when
+                            // known already; -1: a ray finds out if a weight needs it
+};
+
+// The resampling MIS weights m_z(y), z = 0..count-1, that params.bias gives every input of a combination
+// for the sample y of input `source` (input 0: the pixel that combines, whose frame y is placed in), into
+// `weights`. The reuse stages compute the same function for z = source only; tests call this to check
+// that the weights of one sample sum to one over the inputs (tests/test_mis_weights.cpp).
+void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source, const DiReuseParams& params,
+                    float* weights);
+
 // Stage "di_temporal": reads this frame's G-buffer (motion), this and the previous frame's surfaces and
 // reservoirs, writes `out` (one combined reservoir per pixel) and `history_pixel` (the previous frame's
 // pixel whose reservoir was merged, or -1 where the history was lost). Reprojects with the motion vectors.

@@ -1,0 +1,160 @@
+// The resampling MIS weights of ReSTIR's reuse, checked exactly (no statistics): for real combinations
+// built from a rendered frame, the weights every input gives one sample must sum to one wherever the
+// combining pixel's target is positive, and be zero for an input whose target (times visibility, where
+// the weights use it) is zero at the sample. A combination whose weights sum to more or less than one
+// brightens or darkens the image by that factor, which is how every unbiasedness bug of reuse shows.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "apps/renderer.h"
+#include "engine/builtin_scenes.h"
+#include "restir/di_reuse.h"
+#include "tests/render_helpers.h"
+
+namespace candela {
+namespace {
+
+// manylights (256 lights) whose ceiling lights move half a unit per frame, so that last frame's samples
+// must be re-placed for this frame's receivers.
+Scene moving_lights_scene() {
+  Scene scene = make_manylights_scene(256, 7);
+  for (size_t k = 0; k < scene.instances.size(); ++k) {
+    if (!scene.material_of(uint32_t(k)).emissive()) continue;
+    scene.instances[k].animated = true;
+    scene.motions.push_back({int(k), scene.instances[k].transform, vec3(15.0f, 0.0f, 0.0f), 2.5f, 0.0f});
+  }
+  return scene;
+}
+
+// Target and visibility of sample y (stored by an input whose frame placed the lights as `from`) at the
+// receiver of pixel `pixel` of `domain`, computed here from the public pieces (not through the weights'
+// own code): y is re-placed where the domain placed the lights differently.
+struct TargetAt {
+  float p;
+  bool visible;
+};
+TargetAt target_and_visibility(const Renderer& renderer, const DiDomain& domain, size_t pixel, const DiSample& y,
+                               const LightList& from) {
+  DiSample placed = y;
+  if (&domain.lights != &from && y.light != kSurfacePointSample) placed = di_resolve(renderer.scene(), domain.lights, y.light, y.uv);
+  const DiReceiver r = di_receiver(domain, pixel);
+  const DiContribution c = di_contribution(r, placed);
+  const bool visible = !renderer.tracer().occluded(shadow_ray(renderer.tracer(), r.position, r.geometric_normal, c.light));
+  return {di_target(c), visible};
+}
+
+// Whether surface b may share samples with a (depth within 10%, normals within cos 0.9: the reuse defaults).
+bool similar(const DiSurface& a, const DiSurface& b) {
+  return b.hit() && std::abs(a.depth - b.depth) <= 0.1f * a.depth && glm::dot(a.shading_n(), b.shading_n()) >= 0.9f;
+}
+
+struct Tally {
+  int combinations = 0, samples = 0, zero_targets = 0, occluded = 0;
+};
+
+// For every 5th pixel with a sample: the pixel's reservoir (input 0), up to 5 similar neighbours within 3
+// pixels, and last frame's reservoir of the same pixel (camera still, lights moved). Every input's sample
+// y is weighed by all inputs (di_mis_weights) and checked.
+Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& current, const std::vector<DiReservoir>& history,
+                    const DiReuseParams& params, const char* what) {
+  const DiDomain now = renderer.current_domain(), before = renderer.previous_domain();
+  EXPECT_NE(&now.lights, &before.lights) << "the lights must have moved between the two frames";
+  const int w = now.width, h = now.height;
+  const Camera camera(renderer.scene().default_camera(), w, h);  // unused by the weights
+  const SceneView view{renderer.scene(), renderer.tracer(), renderer.lights(), camera};
+  Tally tally;
+  int failures = 0;
+  for (size_t i = 0; i < current.size() && failures < 10; i += 5) {
+    if (!now.surfaces[i].hit() || current[i].W <= 0.0f) continue;
+    const int x = int(i % w), y = int(i / w);
+    std::vector<DiReuseInput> inputs{{&current[i], &now, i, current[i].M}};
+    for (int r = 1; r <= 3 && inputs.size() < 6; ++r)
+      for (int dy = -r; dy <= r && inputs.size() < 6; ++dy)
+        for (int dx = -r; dx <= r && inputs.size() < 6; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (std::max(std::abs(dx), std::abs(dy)) != r || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+          const size_t j = size_t(ny) * w + nx;
+          if (similar(now.surfaces[i], now.surfaces[j])) inputs.push_back({&current[j], &now, j, current[j].M});
+        }
+    if (similar(now.surfaces[i], before.surfaces[i]))
+      inputs.push_back({&history[i], &before, i, std::min(history[i].M, params.history_cap * current[i].M)});
+    const int count = int(inputs.size());
+    if (count < 3) continue;
+    ++tally.combinations;
+    for (int source = 0; source < count; ++source) {
+      const DiReservoir& res = *inputs[source].reservoir;
+      if (res.W <= 0.0f) continue;
+      ++tally.samples;
+      std::vector<TargetAt> at(count);
+      for (int z = 0; z < count; ++z)
+        at[z] = target_and_visibility(renderer, *inputs[z].domain, inputs[z].pixel, res.y, inputs[source].domain->lights);
+      // The target the source's reservoir stored is its target at its own sample, recomputed.
+      EXPECT_NEAR(res.p_hat_y, at[source].p, 1e-5f * std::max(1.0f, at[source].p)) << what << ": pixel " << i << " input " << source;
+      float weights[32];
+      di_mis_weights(view, inputs.data(), count, source, params, weights);
+      float sum = 0.0f;
+      for (int z = 0; z < count; ++z) {
+        sum += weights[z];
+        // Zero where the input's target is zero (times visibility where the weights use it; pairwise
+        // leaves the canonical input's visibility out).
+        const bool uses_visibility = params.mis_visibility && (params.bias == DiBiasCorrection::Basic || z > 0);
+        const bool zero = at[z].p <= 0.0f || (uses_visibility && !at[z].visible);
+        tally.zero_targets += at[z].p <= 0.0f;
+        tally.occluded += at[z].p > 0.0f && !at[z].visible;
+        if (zero && weights[z] != 0.0f) {
+          ADD_FAILURE() << what << ": pixel " << i << " sample of input " << source << ": input " << z << " has target "
+                        << at[z].p << (at[z].visible ? "" : " (occluded)") << " but weight " << weights[z];
+          ++failures;
+        }
+      }
+      // One where the combining pixel's integrand can be non-zero at y.
+      const bool counts = at[0].p > 0.0f && (!params.mis_visibility || params.bias == DiBiasCorrection::Pairwise || at[0].visible);
+      if (counts && std::abs(sum - 1.0f) > 1e-5f) {
+        ADD_FAILURE() << what << ": pixel " << i << " sample of input " << source << " (" << count
+                      << " inputs): weights sum to " << sum;
+        ++failures;
+      }
+    }
+  }
+  std::printf("%-28s %d combinations, %d samples weighed by every input; %d zero targets, %d occluded\n", what,
+              tally.combinations, tally.samples, tally.zero_targets, tally.occluded);
+  return tally;
+}
+
+// ReSTIR DI and GI (method restir) on the moving-lights scene at 64x36, pixel centres: frame 0's final
+// reservoirs become the history, frame 1's final reservoirs the current inputs. Both bias corrections,
+// with and without visibility in the weights.
+TEST(MisWeights, EveryInputsWeightsOfASampleSumToOne) {
+  const Scene scene = moving_lights_scene();
+  RenderSettings settings;
+  settings.width = 64;
+  settings.height = 36;
+  settings.method = Method::Restir;
+  settings.max_depth = 3;
+  settings.jitter = false;
+  settings.accumulate = false;
+  Renderer renderer(scene, settings);
+  testing::render_checked(renderer, 0, 0.0f, scene.default_camera());
+  const std::vector<DiReservoir> di_history = renderer.di_reservoirs(), gi_history = renderer.gi_reservoirs();
+  testing::render_checked(renderer, 1, 1.0f / 30.0f, scene.default_camera());
+  for (DiBiasCorrection bias : {DiBiasCorrection::Basic, DiBiasCorrection::Pairwise})
+    for (bool visibility : {false, true}) {
+      const std::string mode = std::string(bias == DiBiasCorrection::Basic ? "basic" : "pairwise") +
+                               (visibility ? "+visibility" : "");
+      DiReuseParams di = settings.di_reuse, gi = settings.gi_reuse;
+      di.bias = gi.bias = bias;
+      di.mis_visibility = gi.mis_visibility = visibility;
+      Tally d = check_weights(renderer, renderer.di_reservoirs(), di_history, di, ("DI " + mode).c_str());
+      Tally g = check_weights(renderer, renderer.gi_reservoirs(), gi_history, gi, ("GI " + mode).c_str());
+      // The checks must have met every case: many combinations, samples some inputs cannot use, occlusion.
+      for (const Tally& t : {d, g}) {
+        EXPECT_GT(t.combinations, 200) << mode;
+        EXPECT_GT(t.zero_targets, 0) << mode;
+        EXPECT_GT(t.occluded, 0) << mode;
+      }
+    }
+}
+
+}  // namespace
+}  // namespace candela
