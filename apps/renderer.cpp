@@ -134,7 +134,8 @@ DiDomain Renderer::current_domain() const {
 }
 
 DiDomain Renderer::previous_domain() const {
-  return {prev_di_surfaces_, gbuffer_.width, gbuffer_.height, prev_camera_.position(), lights_moved_ ? prev_lights_ : lights_};
+  const bool moved = lights_moved_ && !settings_.stale_light_history;
+  return {prev_di_surfaces_, gbuffer_.width, gbuffer_.height, prev_camera_.position(), moved ? prev_lights_ : lights_};
 }
 
 // Stages "di_surfaces" (first pass of a frame), "di_candidates", then ReSTIR DI's reuse and shading; for

@@ -55,6 +55,9 @@ struct RenderSettings {
   DiReuseParams di_reuse;      // restir-di: temporal and spatial reuse
   DiReuseParams gi_reuse = default_gi_reuse();  // restir: reuse of the GI samples
   bool gi_only = false;        // restir: shade the indirect light alone (tests compare it with a reference)
+  bool stale_light_history = false;  // ablation for the tests: temporal reuse judges last frame's samples with
+                                     // this frame's light placement instead of last frame's (biased where
+                                     // lights move; Unbiased.MovingLights must reject it)
   DenoiserParams denoise;      // the denoiser that finishes each frame (none by default)
 };
 

@@ -5,8 +5,8 @@
 namespace candela {
 
 struct ImageError {
-  double mean_difference = 0.0;  // mean of (x - r)
-  double standard_error = 0.0;   // of that mean, treating pixels as independent estimates
+  double mean_difference = 0.0;  // mean of (x - r) over pixels and channels
+  double standard_error = 0.0;   // of that mean, treating pixels (not channels) as independent estimates
   double mse = 0.0;              // mean of (x - r)^2
   double rel_mse = 0.0;          // mean of (x - r)^2 / (r^2 + 0.01)
 };

@@ -8,7 +8,6 @@
 #include "engine/path_tracer.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
-#include "tests/flythrough.h"
 #include "tests/light_reach.h"
 #include "tests/render_helpers.h"
 
@@ -141,63 +140,44 @@ TEST_F(DirectLightScene, RestirDiCandidatesAreUnbiased) {
   }
 }
 
-// Full ReSTIR DI (temporal and spatial reuse) on a static scene, with G-buffer rays through pixel centres
-// so that only the direct-light estimator is random. Reference: 1024 accumulated frames of the candidate
-// stage alone (unbiased, tested above). For each mode, 48 independent runs (seeds) of 6 frames:
-//  - the image mean of frame 6, averaged over runs, agrees with the reference within 4 standard errors
-//    (estimated from the spread between runs, which reuse does not correlate) for "basic" and
-//    "pairwise", and for both with visibility-tested candidates and visibility in their MIS weights;
-//    "none" (1/M) is measured and its difference printed;
-//  - reuse lowers the error of a frame: its relMSE is below the candidate stage's alone.
-TEST_F(DirectLightScene, RestirDiReuseIsUnbiasedAndHelps) {
-  auto settings_for = [&](uint64_t seed) {
-    RenderSettings s;
-    s.width = kW;
-    s.height = kH;
-    s.method = Method::RestirDi;
-    s.jitter = false;
-    s.di_reuse.spatial_radius = 4.0f;  // the image is 32 x 18: keep neighbours inside it and on similar surfaces
-    s.seed = seed;
-    return s;
-  };
-  RenderSettings reference_settings = settings_for(5);
-  reference_settings.di_reuse.temporal = reference_settings.di_reuse.spatial = false;
-  Renderer reference_renderer(*scene_, reference_settings);
-  for (int frame = 0; frame < 1024; ++frame) testing::render_checked(reference_renderer, frame, 0.0f, scene_->default_camera());
-  Image reference = reference_renderer.image();
-  struct Mode { const char* name; bool reuse; DiBiasCorrection bias; bool permutation = false; bool visibility = false; };
-  double rel_mse_of[7];
+// Reuse lowers the error of a frame: over 16 runs (seeds) of 6 still frames at pixel centres, the mean
+// relMSE of the last frame against a path-traced reference at pixel centres with temporal and spatial reuse (basic, pairwise) is
+// below 0.6 of the candidate stage's alone (measured 2026-12-01: 0.336 and 0.332 vs 0.873). Unbiasedness
+// of reuse: Unbiased.RestirDi.
+TEST_F(DirectLightScene, RestirDiReuseHelps) {
+  // The reference at pixel centres too (path tracer, direct light, 2048 samples per pixel).
+  RenderSettings centres;
+  centres.width = kW;
+  centres.height = kH;
+  centres.jitter = false;
+  centres.max_depth = 1;
+  centres.spp = 2048;
+  Renderer reference_renderer(*scene_, centres);
+  testing::render_checked(reference_renderer, 0, 0.0f, scene_->default_camera());
+  const Image reference = reference_renderer.image();
+  struct Mode { const char* name; bool reuse; DiBiasCorrection bias; };
+  double rel_mse_of[3];
   int k = 0;
   for (Mode mode : {Mode{"no reuse", false, DiBiasCorrection::Basic}, Mode{"basic", true, DiBiasCorrection::Basic},
-                    Mode{"pairwise", true, DiBiasCorrection::Pairwise}, Mode{"none", true, DiBiasCorrection::None},
-                    Mode{"pairwise+permutation", true, DiBiasCorrection::Pairwise, true},
-                    Mode{"basic+visibility", true, DiBiasCorrection::Basic, false, true},
-                    Mode{"pairwise+visibility", true, DiBiasCorrection::Pairwise, false, true}}) {
-    const int runs = 48, frames = 6;
-    double sum = 0.0, sum2 = 0.0, rel_mse = 0.0;
+                    Mode{"pairwise", true, DiBiasCorrection::Pairwise}}) {
+    const int runs = 16, frames = 6;
+    double rel_mse = 0.0;
     for (int run = 0; run < runs; ++run) {
-      RenderSettings settings = settings_for(1000 + run);
+      RenderSettings settings;
+      settings.width = kW;
+      settings.height = kH;
+      settings.method = Method::RestirDi;
+      settings.jitter = false;
       settings.accumulate = false;
+      settings.seed = 1000 + uint64_t(run);
+      settings.di_reuse.spatial_radius = 4.0f;  // the image is 32 x 18: keep neighbours inside it
       settings.di_reuse.temporal = settings.di_reuse.spatial = mode.reuse;
       settings.di_reuse.bias = mode.bias;
-      settings.di_reuse.permutation_sampling = mode.permutation;
-      // Candidates tested for visibility, and visibility in the MIS weights, which keeps basic and pairwise
-      // unbiased (without it basic measured 5 standard errors dark).
-      settings.di.candidate_visibility = settings.di_reuse.mis_visibility = mode.visibility;
       Renderer renderer(*scene_, settings);
       for (int frame = 0; frame < frames; ++frame) testing::render_checked(renderer, frame, 0.0f, scene_->default_camera());
-      Image img = renderer.image();
-      double mean = image_mean(img);
-      sum += mean;
-      sum2 += mean * mean;
-      rel_mse += compare_images(img, reference).rel_mse / runs;
+      rel_mse += compare_images(renderer.image(), reference).rel_mse / runs;
     }
-    double mean = sum / runs, error = std::sqrt(std::max(0.0, sum2 / runs - mean * mean) / (runs - 1));
-    std::printf("restir-di, %-20s: image mean %.5f vs reference %.5f (difference %+.5f, standard error %.5f), "
-                "relMSE of one frame %.3e\n", mode.name, mean, image_mean(reference), mean - image_mean(reference), error, rel_mse);
-    if (mode.bias != DiBiasCorrection::None) {
-      EXPECT_NEAR(mean, image_mean(reference), 4.0 * error) << mode.name;
-    }
+    std::printf("restir-di, %-8s: relMSE of one frame %.3e\n", mode.name, rel_mse);
     rel_mse_of[k++] = rel_mse;
   }
   EXPECT_LT(rel_mse_of[1], 0.6 * rel_mse_of[0]) << "reuse must lower the error of a frame";
@@ -222,37 +202,6 @@ TEST(RestirDi, EnvironmentReachesThroughBsdfCandidates) {
   ImageError e = compare_images(renderer.image(), reference);
   std::printf("cornell with environment: mean difference %+.5f (standard error %.5f)\n", e.mean_difference, e.standard_error);
   EXPECT_LT(std::abs(e.mean_difference), 4.0 * e.standard_error);
-}
-
-// A moving camera over the city, whose cars (lights) move too: 30 frames of ReSTIR DI with reuse give
-// finite pixels, and the last frame's image mean is within 10% of the path-traced direct light of the
-// same frame (no systematic darkening or brightening from stale history; measured between 2.6% low and
-// 1.7% high as the implementation changed).
-TEST(RestirDi, MovingCameraAndLightsStayFiniteAndUnbiased) {
-  Scene scene = make_city_scene(7);
-  const CameraDesc start = scene.default_camera();
-  const int w = 96, h = 54, frames = 30;
-  RenderSettings settings;
-  settings.width = w;
-  settings.height = h;
-  settings.method = Method::RestirDi;
-  settings.light_sampler = LightSamplerKind::Power;
-  settings.accumulate = false;
-  Renderer renderer(scene, settings);
-  testing::render_flythrough(renderer, start, frames);
-  if (HasFatalFailure()) return;
-  // Reference: the same frame (scene time and camera) by the path tracer, direct light only, 256 spp.
-  const Scene reference_scene = testing::flythrough_scene_at(start, frames - 1);
-  Image reference = testing::render_paths<PowerLightSampler>(reference_scene, LightList(reference_scene), w, h, 256, 1, 3);
-  double mean = 0.0, reference_mean = 0.0;
-  Image img = renderer.image();
-  for (size_t i = 0; i < img.pixels.size(); ++i) {
-    mean += luminance(img.pixels[i]);
-    reference_mean += luminance(reference.pixels[i]);
-  }
-  std::printf("moving city, frame %d: image mean %.5f, reference %.5f (ratio %.3f)\n", frames - 1, mean / img.pixels.size(),
-              reference_mean / img.pixels.size(), mean / reference_mean);
-  EXPECT_NEAR(mean / reference_mean, 1.0, 0.1);
 }
 
 }  // namespace
