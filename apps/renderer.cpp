@@ -14,6 +14,19 @@ AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& light
   }
 }
 
+// ReSTIR's settings from the renderer's.
+static RestirSettings restir_settings(const RenderSettings& s) {
+  RestirSettings r;
+  r.di = s.di;
+  r.di_reuse = s.di_reuse;
+  r.gi_reuse = s.gi_reuse;
+  r.gi.max_depth = s.max_depth;
+  r.with_gi = s.method == Method::Restir;
+  r.gi_only = s.gi_only;
+  r.seed = s.seed;
+  return r;
+}
+
 Renderer::Renderer(Scene scene, const RenderSettings& settings)
     : scene_(std::move(scene)),
       settings_(settings),
@@ -21,6 +34,7 @@ Renderer::Renderer(Scene scene, const RenderSettings& settings)
       lights_(scene_),
       prev_lights_(scene_.animated() ? lights_ : LightList()),
       sampler_(make_light_sampler(settings.light_sampler, lights_)),
+      restir_(restir_settings(settings)),
       denoiser_(settings.denoise) {
   CHECK(settings.width > 0 && settings.height > 0 && settings.spp > 0);
   sum_ = Image(settings.width, settings.height);
@@ -51,7 +65,7 @@ void Renderer::update_scene(float time, const CameraDesc& camera, FrameStats& st
       lights_ = LightList(scene_);
       sampler_ = make_light_sampler(settings_.light_sampler, lights_);
       // An emitter scaled under the emission threshold leaves the list: light indices in history are void.
-      if (lights_.size() != prev_lights_.size()) di_.history.clear();
+      if (lights_.size() != prev_lights_.size()) restir_.forget_light_history();
     } else {
       // The buffer swapped in is re-placed, which rewrites every light of an animated instance.
       lights_.update(scene_);
@@ -103,7 +117,10 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   while (more(done)) {
     const bool restir = settings_.method == Method::RestirDi || settings_.method == Method::Restir;
     int pass = restir || settings_.time_budget_ms > 0.0 ? 1 : std::min(4, settings_.spp - done);
-    if (restir) restir_pass(view, frame_index, done, stats);
+    if (restir)
+      std::visit([&](const auto& sampler) {
+        restir_.pass(view, sampler, gbuffer_, restir_frame(), frame_index, done, stats, sum_);
+      }, sampler_);
     else path_trace_pass(view, frame_index, pass, stats);
     done += pass;
     accumulated_spp_ += pass;
@@ -129,92 +146,18 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, 
   std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays(), timer.non_finite()); }, sampler_);
 }
 
-DiDomain Renderer::current_domain() const {
-  return {di_surfaces_, gbuffer_.width, gbuffer_.height, camera_.position(), lights_};
-}
-
-DiDomain Renderer::previous_domain() const {
+RestirFrame Renderer::restir_frame() const {
   const bool moved = lights_moved_ && !settings_.stale_light_history;
-  return {prev_di_surfaces_, gbuffer_.width, gbuffer_.height, prev_camera_.position(), moved ? prev_lights_ : lights_};
+  return {lights_, moved ? prev_lights_ : lights_, camera_.position(), prev_camera_.position()};
 }
 
-// Stages "di_surfaces" (first pass of a frame), "di_candidates", then ReSTIR DI's reuse and shading; for
-// restir also "gi_samples" and ReSTIR GI's reuse and shading: one estimate per pixel of direct (and
-// indirect) light added into the sum. Each pass of each frame draws its own random streams.
-void Renderer::restir_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats) {
-  const int key = frame_index * 4096 + pass;
-  if (pass == 0) {
-    StageTimer timer(stats, "di_surfaces");
-    std::swap(di_surfaces_, prev_di_surfaces_);
-    pack_di_surfaces(gbuffer_, di_surfaces_);
-  }
-  const DiDomain current = current_domain();
-  if (!settings_.gi_only) {
-    DiParams params = settings_.di;
-    params.seed = settings_.seed;
-    {
-      StageTimer timer(stats, "di_candidates");
-      std::visit([&](const auto& sampler) {
-        di_initial_candidates(view, sampler, gbuffer_, current, params, key, di_.initial, di_unsampled_, timer.rays());
-      }, sampler_);
-    }
-    DiReuseParams reuse = settings_.di_reuse;
-    reuse.seed = settings_.seed;
-    reuse_and_shade(view, "di", reuse, key, pass, &di_unsampled_, di_, stats);
-  }
-  if (settings_.method != Method::Restir) return;
-  GiParams params;
-  params.max_depth = settings_.max_depth;
-  params.seed = mix64(settings_.seed ^ 0x6769);
-  {
-    StageTimer timer(stats, "gi_samples");
-    std::visit([&](const auto& sampler) { gi_initial_samples(view, sampler, gbuffer_, current, params, key, gi_.initial, timer.rays(),
-                                                           timer.non_finite()); },
-               sampler_);
-  }
-  DiReuseParams reuse = settings_.gi_reuse;
-  reuse.seed = params.seed;
-  reuse_and_shade(view, "gi", reuse, key, pass, nullptr, gi_, stats);
-}
+DiDomain Renderer::current_domain() const { return restir_.current_domain(restir_frame(), gbuffer_); }
 
-// Stages "<prefix>_temporal" (first pass of a frame, once there is history), "<prefix>_boiling_filter"
-// (optional), "<prefix>_spatial" (per spatial pass) and "<prefix>_shade": reuses chain.initial across
-// frames and pixels and adds one estimate per pixel into the sum (plus emission seen and `unsampled`,
-// when given); the final reservoirs and shadow-ray verdicts become the chain's history.
-void Renderer::reuse_and_shade(const SceneView& view, const std::string& prefix, const DiReuseParams& reuse, int key,
-                               int pass, const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats) {
-  const DiDomain current = current_domain(), previous = previous_domain();
-  const std::vector<DiReservoir>* result = &chain.initial;
-  const bool temporal = reuse.temporal && pass == 0 && chain.history.size() == gbuffer_.size();
-  if (temporal) {
-    StageTimer timer(stats, prefix + "_temporal");
-    di_temporal_reuse(view, gbuffer_, current, previous, *result, chain.history, reuse, key, chain.temporal,
-                      chain.history_pixel, timer.rays());
-    result = &chain.temporal;
-  }
-  if (temporal && reuse.boiling_threshold > 0.0f) {
-    StageTimer timer(stats, prefix + "_boiling_filter");
-    di_boiling_filter(current, reuse.boiling_threshold, chain.temporal);
-  }
-  for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
-    StageTimer timer(stats, prefix + "_spatial");
-    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr, chain.spatial[k % 2],
-                     timer.rays());
-    result = &chain.spatial[k % 2];
-  }
-  {
-    StageTimer timer(stats, prefix + "_shade");
-    std::swap(chain.visibility, chain.prev_visibility);
-    DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr, &chain.prev_visibility};
-    di_shade(view, gbuffer_, *result, unsampled, visibility, chain.visibility, sum_, timer.rays(), timer.non_finite());
-  }
-  chain.history = *result;
-}
+DiDomain Renderer::previous_domain() const { return restir_.previous_domain(restir_frame(), gbuffer_); }
 
 void Renderer::reset_history() {
   has_frame_ = false;
-  di_.history.clear();
-  gi_.history.clear();
+  restir_.forget_history();
   std::fill(sum_.pixels.begin(), sum_.pixels.end(), vec3(0.0f));
   accumulated_spp_ = 0;
   denoiser_.reset();

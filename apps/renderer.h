@@ -19,6 +19,7 @@
 #include "restir/di.h"
 #include "restir/di_reuse.h"
 #include "restir/gi.h"
+#include "restir/restir_frame.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
 
@@ -61,15 +62,6 @@ struct RenderSettings {
   DenoiserParams denoise;      // the denoiser that finishes each frame (none by default)
 };
 
-// The buffers of one reservoir-resampling estimator (ReSTIR DI or GI): this pass's reservoirs after each
-// stage, the history the next frame reuses, which previous pixel each pixel merged, and the final
-// shadow-ray verdicts of this and the previous pass.
-struct ReservoirChain {
-  std::vector<DiReservoir> initial, temporal, spatial[2], history;
-  std::vector<int32_t> history_pixel;
-  std::vector<DiVisibility> visibility, prev_visibility;
-};
-
 using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler, LightTreeSampler, ExhaustiveLightSampler>;
 
 class Renderer {
@@ -92,8 +84,8 @@ class Renderer {
   int accumulated_spp() const { return accumulated_spp_; }
   const GBuffer& gbuffer() const { return gbuffer_; }
   // restir-di, restir: the reservoirs the last frame shaded with (empty for other methods).
-  const std::vector<DiReservoir>& di_reservoirs() const { return di_.history; }
-  const std::vector<DiReservoir>& gi_reservoirs() const { return gi_.history; }
+  const std::vector<DiReservoir>& di_reservoirs() const { return restir_.di_reservoirs(); }
+  const std::vector<DiReservoir>& gi_reservoirs() const { return restir_.gi_reservoirs(); }
   // restir-di, restir: the packed surfaces and light placement of the last frame and of the one before
   // (what reuse's target functions read; the weight tests build combinations from them).
   DiDomain current_domain() const;
@@ -106,9 +98,8 @@ class Renderer {
  private:
   void update_scene(float time, const CameraDesc& camera, FrameStats& stats);
   void path_trace_pass(const SceneView& view, int frame_index, int spp, FrameStats& stats);
-  void restir_pass(const SceneView& view, int frame_index, int pass, FrameStats& stats);
-  void reuse_and_shade(const SceneView& view, const std::string& prefix, const DiReuseParams& reuse, int key, int pass,
-                       const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats);
+  // The renderer's side of ReSTIR's pass: this and last frame's light placement and eye.
+  RestirFrame restir_frame() const;
 
   Scene scene_;
   RenderSettings settings_;
@@ -121,9 +112,7 @@ class Renderer {
   CameraDesc camera_desc_;
   bool has_frame_ = false;
   GBuffer gbuffer_, prev_gbuffer_;
-  ReservoirChain di_, gi_;
-  std::vector<DiSurface> di_surfaces_, prev_di_surfaces_;  // packed G-buffer surfaces of this and last frame
-  std::vector<vec3> di_unsampled_;  // light only BSDF candidates reach (environment, unlisted emitters)
+  Restir restir_;
   Image sum_;
   int accumulated_spp_ = 0;
   Denoiser denoiser_;

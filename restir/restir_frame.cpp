@@ -1,0 +1,63 @@
+#include "restir/restir_frame.h"
+
+#include <utility>
+
+namespace candela {
+
+void Restir::forget_history() {
+  di_.history.clear();
+  gi_.history.clear();
+}
+
+DiDomain Restir::current_domain(const RestirFrame& frame, const GBuffer& g) const {
+  return {surfaces_, g.width, g.height, frame.eye, frame.lights};
+}
+
+DiDomain Restir::previous_domain(const RestirFrame& frame, const GBuffer& g) const {
+  return {prev_surfaces_, g.width, g.height, frame.prev_eye, frame.prev_lights};
+}
+
+void Restir::pack_surfaces(const GBuffer& g, int pass, FrameStats& stats) {
+  if (pass != 0) return;
+  StageTimer timer(stats, "di_surfaces");
+  std::swap(surfaces_, prev_surfaces_);
+  pack_di_surfaces(g, surfaces_);
+}
+
+// Stages "<prefix>_temporal" (first pass of a frame, once there is history), "<prefix>_boiling_filter"
+// (optional), "<prefix>_spatial" (per spatial pass) and "<prefix>_shade": reuses chain.initial across
+// frames and pixels and adds one estimate per pixel into the sum (plus emission seen and `unsampled`,
+// when given); the final reservoirs and shadow-ray verdicts become the chain's history, by swapping
+// buffers (every stage rewrites its output buffer whole, so nothing stale survives the swap).
+void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
+                             const DiReuseParams& reuse, int key, int pass, const std::vector<vec3>* unsampled,
+                             ReservoirChain& chain, FrameStats& stats, Image& sum) {
+  const DiDomain current = current_domain(frame, g), previous = previous_domain(frame, g);
+  std::vector<DiReservoir>* result = &chain.initial;
+  const bool temporal = reuse.temporal && pass == 0 && chain.history.size() == g.size();
+  if (temporal) {
+    StageTimer timer(stats, prefix + "_temporal");
+    di_temporal_reuse(view, g, current, previous, *result, chain.history, reuse, key, chain.temporal, chain.history_pixel,
+                      timer.rays());
+    result = &chain.temporal;
+  }
+  if (temporal && reuse.boiling_threshold > 0.0f) {
+    StageTimer timer(stats, prefix + "_boiling_filter");
+    di_boiling_filter(current, reuse.boiling_threshold, chain.temporal);
+  }
+  for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
+    StageTimer timer(stats, prefix + "_spatial");
+    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr, chain.spatial[k % 2],
+                     timer.rays());
+    result = &chain.spatial[k % 2];
+  }
+  {
+    StageTimer timer(stats, prefix + "_shade");
+    std::swap(chain.visibility, chain.prev_visibility);
+    DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr, &chain.prev_visibility};
+    di_shade(view, g, *result, unsampled, visibility, chain.visibility, sum, timer.rays(), timer.non_finite());
+  }
+  std::swap(chain.history, *result);
+}
+
+}  // namespace candela

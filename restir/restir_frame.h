@@ -1,0 +1,110 @@
+#pragma once
+// ReSTIR's part of a frame (methods restir-di and restir), and the history it keeps between frames: the
+// stage chain candidates -> temporal reuse -> boiling filter -> spatial reuse -> shading, run for DI and,
+// with GI on, for GI's reservoirs through the same reuse code. The renderer owns the scene, the lights
+// and the G-buffer, and hands them in every pass.
+#include <string>
+#include <vector>
+
+#include "engine/frame_stats.h"
+#include "engine/image.h"
+#include "restir/di.h"
+#include "restir/di_reuse.h"
+#include "restir/gi.h"
+
+namespace candela {
+
+// The buffers of one reservoir-resampling estimator (ReSTIR DI or GI): this pass's reservoirs after each
+// stage, the history the next frame reuses, which previous pixel each pixel merged, and the final
+// shadow-ray verdicts of this and the previous pass.
+struct ReservoirChain {
+  std::vector<DiReservoir> initial, temporal, spatial[2], history;
+  std::vector<int32_t> history_pixel;
+  std::vector<DiVisibility> visibility, prev_visibility;
+};
+
+struct RestirSettings {
+  DiParams di;              // initial candidates
+  DiReuseParams di_reuse;   // DI's temporal and spatial reuse
+  DiReuseParams gi_reuse;   // GI's
+  GiParams gi;              // GI's samples (paths)
+  bool with_gi = false;     // restir: GI too; restir-di: DI alone
+  bool gi_only = false;     // with_gi: shade the indirect light alone (tests compare it with a reference)
+  uint64_t seed = 1;
+};
+
+// What a pass reads besides the G-buffer: this frame's light placement and eye, and last frame's, as the
+// renderer decided them (last frame's placement is this frame's where no light moved).
+struct RestirFrame {
+  const LightList& lights;
+  const LightList& prev_lights;
+  vec3 eye, prev_eye;
+};
+
+class Restir {
+ public:
+  explicit Restir(const RestirSettings& settings) : settings_(settings) {}
+
+  // One pass of frame `frame_index` (pass 0 packs the G-buffer's surfaces and may reuse history; later
+  // passes of the same frame resample anew): one estimate per pixel of direct (and indirect) light added
+  // into `sum`. Each pass of each frame draws its own random streams.
+  template <LightSampler S>
+  void pass(const SceneView& view, const S& sampler, const GBuffer& g, const RestirFrame& frame, int frame_index,
+            int pass, FrameStats& stats, Image& sum);
+
+  // Forgets every reservoir of earlier frames (the next frame reuses nothing).
+  void forget_history();
+  // Forgets DI's history alone: its samples name lights by index, void once the light list changed.
+  void forget_light_history() { di_.history.clear(); }
+
+  // The reservoirs the last pass shaded with (empty before the first pass, or for GI without it).
+  const std::vector<DiReservoir>& di_reservoirs() const { return di_.history; }
+  const std::vector<DiReservoir>& gi_reservoirs() const { return gi_.history; }
+  // This and last frame's packed surfaces with the frame's light placement and eye: what reuse's target
+  // functions read.
+  DiDomain current_domain(const RestirFrame& frame, const GBuffer& g) const;
+  DiDomain previous_domain(const RestirFrame& frame, const GBuffer& g) const;
+
+ private:
+  // Stage "di_surfaces" (pass 0 only): last frame's packed surfaces become history, this frame's are packed.
+  void pack_surfaces(const GBuffer& g, int pass, FrameStats& stats);
+  void reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
+                       const DiReuseParams& reuse, int key, int pass, const std::vector<vec3>* unsampled,
+                       ReservoirChain& chain, FrameStats& stats, Image& sum);
+
+  RestirSettings settings_;
+  ReservoirChain di_, gi_;
+  std::vector<DiSurface> surfaces_, prev_surfaces_;  // packed G-buffer surfaces of this and last frame
+  std::vector<vec3> unsampled_;  // light only BSDF candidates reach (environment, unlisted emitters)
+};
+
+template <LightSampler S>
+void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, const RestirFrame& frame, int frame_index,
+                  int pass, FrameStats& stats, Image& sum) {
+  const int key = frame_index * 4096 + pass;
+  pack_surfaces(g, pass, stats);
+  const DiDomain current = current_domain(frame, g);
+  if (!settings_.with_gi || !settings_.gi_only) {
+    DiParams params = settings_.di;
+    params.seed = settings_.seed;
+    {
+      StageTimer timer(stats, "di_candidates");
+      di_initial_candidates(view, sampler, g, current, params, key, di_.initial, unsampled_, timer.rays());
+    }
+    DiReuseParams reuse = settings_.di_reuse;
+    reuse.seed = settings_.seed;
+    reuse_and_shade(view, g, frame, "di", reuse, key, pass, &unsampled_, di_, stats, sum);
+  }
+  if (!settings_.with_gi) return;
+  GiParams params = settings_.gi;
+  params.seed = mix64(settings_.seed ^ 0x6769);
+  {
+    StageTimer timer(stats, "gi_samples");
+    gi_initial_samples(view, sampler, g, current, params, key, gi_.initial, timer.rays(), timer.non_finite());
+  }
+  DiReuseParams reuse = settings_.gi_reuse;
+  reuse.seed = params.seed;
+  reuse_and_shade(view, g, frame, "gi", reuse, key, pass, nullptr, gi_, stats, sum);
+}
+
+}  // namespace candela
