@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <utility>
 
 #include "apps/plot.h"
 #include "apps/scene_source.h"
@@ -47,7 +49,8 @@ const ConvergeMethod& converge_method_named(const std::string& name) {
 }
 
 std::vector<ConvergePoint> run_convergence(const Scene& scene, const ConvergeMethod& method, const RenderSettings& base,
-                                           const std::vector<int>& counts, const Image& reference, double max_seconds) {
+                                           const std::vector<int>& counts, const Image& reference, double max_seconds,
+                                           Image* last_image) {
   RenderSettings settings = base;
   settings.spp = 1;
   settings.accumulate = true;
@@ -63,12 +66,23 @@ std::vector<ConvergePoint> run_convergence(const Scene& scene, const ConvergeMet
     points.push_back({method.name, count, time_ms, compare_images(renderer.image(), reference)});
     if (max_seconds > 0.0 && time_ms > 1e3 * max_seconds) break;
   }
+  if (last_image) *last_image = renderer.image();
   return points;
 }
 
-Image render_reference(const Scene& scene, Transport transport, const RenderSettings& base, int spp, uint64_t seed) {
+LightSamplerKind reference_light_sampler(const ConvergeMethod& method, const RenderSettings& base) {
+  RenderSettings settings = base;
+  method.configure(settings);
+  if (settings.method != Method::Direct && settings.method != Method::PathTrace) return settings.light_sampler;
+  const bool tree_like = settings.light_sampler == LightSamplerKind::Tree || settings.light_sampler == LightSamplerKind::Exhaustive;
+  return tree_like ? LightSamplerKind::Power : LightSamplerKind::Tree;
+}
+
+Image render_reference(const Scene& scene, Transport transport, const RenderSettings& base, LightSamplerKind sampler,
+                       int spp, uint64_t seed) {
   RenderSettings settings = base;
   settings.method = transport == Transport::Direct ? Method::Direct : Method::PathTrace;
+  settings.light_sampler = sampler;
   settings.spp = spp;
   settings.seed = seed;
   settings.time_budget_ms = 0.0;
@@ -90,9 +104,10 @@ double mse_slope(const std::vector<ConvergePoint>& points, int lo, int hi) {
 
 namespace {
 
-// Stage "references": the given EXR (checked for size) or a rendered one, per transport the methods need.
-// Cost: reference_spp samples per pixel (Full: whole paths) unless given.
-Image reference_for(const ConvergeOptions& o, const Scene& scene, Transport transport) {
+// Stage "references": the given EXR (checked for size) or a rendered one, per transport and reference
+// light sampler the methods need (reference_light_sampler). Cost: reference_spp samples per pixel (Full:
+// whole paths) unless given.
+Image reference_for(const ConvergeOptions& o, const Scene& scene, Transport transport, LightSamplerKind sampler) {
   const std::string& given = transport == Transport::Direct ? o.reference_direct : o.reference;
   if (!given.empty()) {
     Image image = read_image(given);
@@ -102,10 +117,11 @@ Image reference_for(const ConvergeOptions& o, const Scene& scene, Transport tran
     return image;
   }
   auto start = std::chrono::steady_clock::now();
-  Image image = render_reference(scene, transport, o.base, o.reference_spp, o.base.seed + 7919);
+  Image image = render_reference(scene, transport, o.base, sampler, o.reference_spp, o.base.seed + 7919);
   if (!o.quiet)
-    std::fprintf(stderr, "reference (%s, %d spp): %.1f s\n", transport == Transport::Direct ? "direct" : "path traced",
-                 o.reference_spp, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    std::fprintf(stderr, "reference (%s, %s light sampler, %d spp): %.1f s\n",
+                 transport == Transport::Direct ? "direct" : "path traced", name_of(light_sampler_names(), sampler).c_str(), o.reference_spp,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return image;
 }
 
@@ -161,13 +177,16 @@ int run_converge(const ConvergeOptions& o) {
   std::vector<int> counts;
   for (int n = 1; n <= o.max_spp; n *= 2) counts.push_back(n);
   std::vector<ConvergePoint> points;
+  // References rendered once per (transport, light sampler); a given EXR serves every method of its transport.
+  std::map<std::pair<Transport, LightSamplerKind>, Image> references;
   for (Transport transport : {Transport::Direct, Transport::Full}) {
-    bool needed = false;
-    for (const ConvergeMethod* m : methods) needed = needed || m->transport == transport;
-    if (!needed) continue;
-    Image reference = reference_for(o, scene, transport);
     for (const ConvergeMethod* m : methods) {
       if (m->transport != transport) continue;
+      const std::string& given = transport == Transport::Direct ? o.reference_direct : o.reference;
+      const LightSamplerKind sampler = given.empty() ? reference_light_sampler(*m, o.base) : LightSamplerKind::Power;
+      auto key = std::make_pair(transport, sampler);
+      if (!references.count(key)) references.emplace(key, reference_for(o, scene, transport, sampler));
+      const Image& reference = references.at(key);
       std::vector<ConvergePoint> run = run_convergence(scene, *m, o.base, counts, reference, o.max_seconds);
       if (!o.quiet)
         for (const ConvergePoint& p : run)

@@ -39,13 +39,22 @@ struct ConvergePoint {
 
 // Renders `method` (on top of `base`) frame by frame and measures the image at each count in `counts`
 // (increasing); stops early once the frames so far took more than `max_seconds` (0 = no limit).
-// Cost: max(counts) frames.
+// `last_image`, if given, receives the image at the last count measured. Cost: max(counts) frames.
 std::vector<ConvergePoint> run_convergence(const Scene& scene, const ConvergeMethod& method, const RenderSettings& base,
-                                           const std::vector<int>& counts, const Image& reference, double max_seconds = 0.0);
+                                           const std::vector<int>& counts, const Image& reference, double max_seconds = 0.0,
+                                           Image* last_image = nullptr);
+
+// The light sampler of the reference `method` is measured against. References are rendered by the direct
+// method or the path tracer; for those methods (direct-*, pt) the reference uses a light sampler the
+// method does not, so that a reference rendered by the method's own estimator cannot hide its bias:
+// power for the tree and the exhaustive sampler, the tree for uniform and power. ReSTIR methods are other
+// estimators already and get the sampler they use (base's, for their candidates).
+LightSamplerKind reference_light_sampler(const ConvergeMethod& method, const RenderSettings& base);
 
 // The converged image of `transport` for `scene`: the path tracer (`max_depth` bounces for Full, the
-// direct method for Direct) at `spp` samples per pixel with base's light sampler and seed `seed`.
-Image render_reference(const Scene& scene, Transport transport, const RenderSettings& base, int spp, uint64_t seed);
+// direct method for Direct) at `spp` samples per pixel with light sampler `sampler` and seed `seed`.
+Image render_reference(const Scene& scene, Transport transport, const RenderSettings& base, LightSamplerKind sampler,
+                       int spp, uint64_t seed);
 
 // Log-log least-squares slope of MSE against samples over the points with lo <= samples <= hi.
 double mse_slope(const std::vector<ConvergePoint>& points, int lo, int hi);

@@ -2,12 +2,19 @@
 # Runs a candela command line and checks how it ends.
 #   cli_expect.sh fail STATUS REGEX OUTPUT -- CMD...   must exit with STATUS (2: bad input), print an
 #                                               `error:` line matching REGEX on stderr, and leave no OUTPUT file behind
-#   cli_expect.sh ok FILE... -- CMD...           must exit 0 and write every FILE (removed first)
+#   cli_expect.sh ok FILE... -- CMD... [--then CHECK...]
+#                                               must exit 0 and write every FILE (removed first); then
+#                                               CHECK (tests/check_outputs.cpp: the files' content) must exit 0
 set -u
 mode=$1; shift
 args=()
 while [ "$1" != "--" ]; do args+=("$1"); shift; done
 shift
+cmd=()
+while [ $# -gt 0 ] && [ "$1" != "--then" ]; do cmd+=("$1"); shift; done
+[ $# -gt 0 ] && shift
+check=("$@")
+set -- "${cmd[@]}"
 if [ "$mode" = fail ]; then
   status=${args[0]}; regex=${args[1]}; output=${args[2]}
   rm -f "$output"
@@ -21,3 +28,5 @@ fi
 for f in "${args[@]}"; do rm -f "$f"; done
 "$@" || { echo "command failed with $?"; exit 1; }
 for f in "${args[@]}"; do [ -s "$f" ] || { echo "$f missing"; exit 1; }; done
+[ ${#check[@]} -eq 0 ] || "${check[@]}" || { echo "content check failed: ${check[*]}"; exit 1; }
+exit 0

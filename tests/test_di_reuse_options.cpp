@@ -50,22 +50,41 @@ TEST(RestirDiReuse, DisocclusionBoostAddsNeighbours) {
   EXPECT_GT(boosted, 1.4 * plain);
 }
 
-// A block of equal reservoirs with one outlier 1000x brighter: the filter drops the outlier only.
+// The boiling filter thresholds each reservoir's estimated contribution p_hat(y) W against 10x the mean
+// contribution over its 16x16 block's reservoirs with W > 0, and drops (W = w_sum = 0, M kept) those above.
+// One 16x16 block: 128 reservoirs with W = 0 (no sample; p_hat 1), 125 with p_hat = W = 1, and
+//   A: p_hat 0.01, W 1000 (contribution 10),  B: p_hat 100, W 1 (contribution 100),  C: p_hat 3, W 4 (12).
+// Mean contribution over the 128 with W > 0: (125 + 10 + 100 + 12) / 128 = 1.93, limit 19.3: B alone is
+// dropped. A filter on W alone would drop A (W 1000 > 10 x mean W 8.8) and keep B; one that averaged over
+// all 256 reservoirs (limit 9.65) would also drop A and C. Exact comparisons: the filter only copies
+// and zeroes values.
 TEST(RestirDiReuse, BoilingFilterDropsOutliersOnly) {
   const int w = 16, h = 16;
   std::vector<DiReservoir> reservoirs(size_t(w) * h);
-  for (DiReservoir& r : reservoirs) r.p_hat_y = r.W = r.M = 1.0f;
-  reservoirs[37].W = 1000.0f;
-  reservoirs[38].W = 5.0f;  // bright, but below the threshold of 10 x the block mean (about 4.9)
+  auto set = [&](size_t i, float p_hat, float W) {
+    reservoirs[i].p_hat_y = p_hat;
+    reservoirs[i].W = W;
+    reservoirs[i].w_sum = p_hat * W;
+    reservoirs[i].M = 1.0f;
+  };
+  for (size_t i = 0; i < reservoirs.size(); ++i) set(i, 1.0f, i % 2 == 0 ? 0.0f : 1.0f);  // odd: the 128 with W > 0
+  const size_t a = 37, b = 39, c = 41;  // odd pixels: three of the 128
+  set(a, 0.01f, 1000.0f);
+  set(b, 100.0f, 1.0f);
+  set(c, 3.0f, 4.0f);
+  const std::vector<DiReservoir> before = reservoirs;
   std::vector<DiSurface> surfaces(reservoirs.size());
   LightList lights;
   di_boiling_filter(DiDomain{surfaces, w, h, vec3(0.0f), lights}, 10.0f, reservoirs);
-  EXPECT_EQ(reservoirs[37].W, 0.0f);
-  EXPECT_EQ(reservoirs[37].M, 1.0f);  // kept: the reservoir still stands for its candidates
-  EXPECT_EQ(reservoirs[38].W, 5.0f);
+  EXPECT_EQ(reservoirs[b].W, 0.0f);
+  EXPECT_EQ(reservoirs[b].w_sum, 0.0f);
+  EXPECT_EQ(reservoirs[b].M, 1.0f);  // kept: the reservoir still stands for its candidates
+  EXPECT_EQ(reservoirs[b].p_hat_y, 100.0f);
   for (size_t i = 0; i < reservoirs.size(); ++i)
-    if (i != 37 && i != 38) {
-      EXPECT_EQ(reservoirs[i].W, 1.0f) << i;
+    if (i != b) {
+      EXPECT_EQ(reservoirs[i].W, before[i].W) << i;
+      EXPECT_EQ(reservoirs[i].w_sum, before[i].w_sum) << i;
+      EXPECT_EQ(reservoirs[i].M, before[i].M) << i;
     }
 }
 

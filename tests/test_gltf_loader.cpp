@@ -10,6 +10,7 @@
 #include <string>
 
 #include "engine/check.h"
+#include "tests/test_util.h"
 
 #ifndef CANDELA_SOURCE_DIR
 #error "CANDELA_SOURCE_DIR must be defined as the repository root (tests/CMakeLists.txt does this)"
@@ -17,12 +18,6 @@
 
 namespace candela {
 namespace {
-
-// The shared test scenes: $CANDELA_SCENES, else ../shared/scenes beside the repository.
-std::string scenes_dir() {
-  if (const char* env = std::getenv("CANDELA_SCENES"); env != nullptr && *env != '\0') return env;
-  return std::string(CANDELA_SOURCE_DIR) + "/../shared/scenes";
-}
 
 std::string broken_file(const std::string& name) { return std::string(CANDELA_SOURCE_DIR) + "/tests/data/broken/" + name; }
 
@@ -86,7 +81,7 @@ void expect_consistent(const Scene& scene) {
 
 struct SharedScene {
   const char* test_name;
-  const char* file;            // relative to scenes_dir()
+  const char* file;            // relative to the shared scenes directory
   size_t readme_triangles;     // README/gltf_stats "unique" count = loaded unique triangles + skipped
   size_t instanced_triangles;  // Scene::triangle_count() after degenerate triangles are dropped
   size_t point_lights, directional_lights;
@@ -104,10 +99,11 @@ const SharedScene kSharedScenes[] = {
     {"GlamVelvetSofa", "GlamVelvetSofa/glTF/GlamVelvetSofa.gltf", 4196, 4196, 0, 1},
 };
 
-// Loads a shared scene into `scene`; false (the caller skips) when the scenes are not installed.
+// Loads a shared scene into `scene`; false (the caller skips) when the shared scenes are not installed.
+// When they are, a missing file has already failed the test (testing::shared_scene_file).
 bool load_shared(const std::string& relative, Scene& scene, LoadReport& report) {
-  const std::string path = scenes_dir() + "/" + relative;
-  if (!std::filesystem::exists(path)) return false;
+  const std::string path = testing::shared_scene_file(relative);
+  if (path.empty()) return false;
   scene = load_gltf(path, &report);
   return true;
 }
@@ -118,7 +114,7 @@ TEST_P(SharedSceneTest, LoadsWithExpectedCounts) {
   const SharedScene& c = GetParam();
   Scene scene;
   LoadReport report;
-  if (!load_shared(c.file, scene, report)) GTEST_SKIP() << "shared scenes not found in " << scenes_dir();
+  if (!load_shared(c.file, scene, report)) GTEST_SKIP() << testing::shared_scenes_skip_reason();
   EXPECT_EQ(unique_triangles(scene) + report.degenerate_triangles_skipped, c.readme_triangles);
   EXPECT_EQ(scene.triangle_count(), c.instanced_triangles);
   EXPECT_EQ(count_lights(scene, PunctualType::Point), c.point_lights);
@@ -135,7 +131,7 @@ INSTANTIATE_TEST_SUITE_P(GltfLoader, SharedSceneTest, ::testing::ValuesIn(kShare
 TEST(GltfLoader, CornellBoxInstancesCameraAndImagelessTexture) {
   Scene scene;
   LoadReport report;
-  if (!load_shared("nv_cornellbox/cornellBox.gltf", scene, report)) GTEST_SKIP() << "shared scenes not found";
+  if (!load_shared("nv_cornellbox/cornellBox.gltf", scene, report)) GTEST_SKIP() << testing::shared_scenes_skip_reason();
   // One cube mesh is used by two nodes: one Mesh, two Instances.
   EXPECT_EQ(scene.meshes.size(), 9u);
   EXPECT_EQ(scene.instances.size(), 10u);
@@ -159,7 +155,7 @@ TEST(GltfLoader, EmissiveStrengthMultipliesEmission) {
   Scene scene;
   LoadReport report;
   if (!load_shared("EmissiveStrengthTest/glTF/EmissiveStrengthTest.gltf", scene, report))
-    GTEST_SKIP() << "shared scenes not found";
+    GTEST_SKIP() << testing::shared_scenes_skip_reason();
   // emissiveFactor (0.1, 0.5, 0.9) with emissiveStrength up to 16.
   float max_emission = 0.0f;
   for (const Material& m : scene.materials) max_emission = std::max(max_emission, max_component(m.emission));
@@ -171,7 +167,7 @@ TEST(GltfLoader, LampLightsArePlacedThroughNodes) {
   Scene scene;
   LoadReport report;
   if (!load_shared("LightsPunctualLamp/glTF/LightsPunctualLamp.gltf", scene, report))
-    GTEST_SKIP() << "shared scenes not found";
+    GTEST_SKIP() << testing::shared_scenes_skip_reason();
   ASSERT_EQ(scene.punctual_lights.size(), 5u);
   // The bulb light (node "Point_Orientation") sits at its node matrix's translation, inside the lamp.
   const PunctualLight& bulb = scene.punctual_lights[0];
@@ -195,7 +191,7 @@ TEST(GltfLoader, LampLightsArePlacedThroughNodes) {
 TEST(GltfLoader, SofaTextureTransformAndDirectionalLight) {
   Scene scene;
   LoadReport report;
-  if (!load_shared("GlamVelvetSofa/glTF/GlamVelvetSofa.gltf", scene, report)) GTEST_SKIP() << "shared scenes not found";
+  if (!load_shared("GlamVelvetSofa/glTF/GlamVelvetSofa.gltf", scene, report)) GTEST_SKIP() << testing::shared_scenes_skip_reason();
   bool transformed = false;
   for (const Material& m : scene.materials)
     for (const TextureRef* ref : texture_refs(m))

@@ -64,14 +64,15 @@ TEST(Lights, BlackTexturedTrianglesAreNotLights) {
 // four point samples exceeds 1e-3; the light list keeps a triangle when its average emission does, so the
 // counts may differ a little (the difference is reported) but must agree within 10%.
 TEST(Lights, SharedSceneEmitterCounts) {
-  std::string dir = testing::shared_scenes_dir();
-  if (dir.empty()) GTEST_SKIP() << "../shared/scenes not present";
+  if (testing::shared_scenes_dir().empty()) GTEST_SKIP() << testing::shared_scenes_skip_reason();
   struct Case { const char* file; size_t readme_count; };
   for (Case c : {Case{"LightsPunctualLamp/glTF/LightsPunctualLamp.gltf", 358},
                  Case{"StainedGlassLamp/glTF-JPG-PNG/StainedGlassLamp.gltf", 14602},
                  Case{"DamagedHelmet/glTF/DamagedHelmet.gltf", 234},
                  Case{"EmissiveStrengthTest/glTF/EmissiveStrengthTest.gltf", 60}}) {
-    Scene scene = load_scene(dir + "/" + c.file);
+    const std::string path = testing::shared_scene_file(c.file);
+    if (path.empty()) continue;  // missing: shared_scene_file failed the test
+    Scene scene = load_scene(path);
     LightList lights(scene);
     std::printf("%s: %zu emitting triangles (README: %zu)\n", c.file, lights.triangle_count(), c.readme_count);
     EXPECT_NEAR(double(lights.triangle_count()), double(c.readme_count), 0.1 * c.readme_count) << c.file;

@@ -235,11 +235,13 @@ class PbrtReference : public ::testing::TestWithParam<PbrtCase> {};
 
 TEST_P(PbrtReference, OccludedRoomLambertMatches) {
   const PbrtCase c = GetParam();
-  std::string dir = testing::shared_scenes_dir();
-  if (dir.empty()) GTEST_SKIP() << "../shared/scenes is not there";
-  Scene scene = load_scene(dir + "/occluded_room/occluded_room_lambert.gltf");
+  const std::string scene_file = testing::shared_scene_file("occluded_room/occluded_room_lambert.gltf");
+  const std::string reference_file = testing::shared_scene_file(std::string("occluded_room/reference/") + c.reference);
+  // Skipped without the shared scenes; with them, a missing file has failed the test already.
+  if (scene_file.empty() || reference_file.empty()) GTEST_SKIP() << testing::shared_scenes_skip_reason();
+  Scene scene = load_scene(scene_file);
   ASSERT_TRUE(scene.camera.has_value());
-  Image reference = read_image(dir + "/occluded_room/reference/" + c.reference);
+  Image reference = read_image(reference_file);
   RenderSettings s;
   s.width = s.height = c.size;
   s.spp = c.spp;

@@ -155,9 +155,9 @@ TEST(Samplers, ExhaustiveFrequenciesMatchPmfWithADirectionalLight) {
 }
 // A real glTF scene: 13,902 textured emitting triangles of StainedGlassLamp (skipped without ../shared).
 TEST(Samplers, TreeFrequenciesMatchPmfInStainedGlassLamp) {
-  std::string dir = testing::shared_scenes_dir();
-  if (dir.empty()) GTEST_SKIP() << "../shared/scenes not present";
-  check_context_sampler<LightTreeSampler>(load_scene(dir + "/StainedGlassLamp/glTF-JPG-PNG/StainedGlassLamp.gltf"), 3, 200000);
+  const std::string path = testing::shared_scene_file("StainedGlassLamp/glTF-JPG-PNG/StainedGlassLamp.gltf");
+  if (path.empty()) GTEST_SKIP() << testing::shared_scenes_skip_reason();  // (a failure if only the file is missing)
+  check_context_sampler<LightTreeSampler>(load_scene(path), 3, 200000);
 }
 TEST(Samplers, TreeFrequenciesMatchPmfInTheCity) { check_context_sampler<LightTreeSampler>(make_city_scene(7), 3, 200000); }
 

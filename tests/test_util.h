@@ -1,16 +1,46 @@
 #pragma once
 // Shared helpers of the tests: where the shared scenes are, and the chi-square distribution.
+#include <gtest/gtest.h>
+
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
 namespace candela::testing {
 
-// ../shared/scenes beside the checkout (CANDELA_SCENES overrides); empty if absent.
+// Where the shared scenes are expected: $CANDELA_SCENES if set, else ../shared/scenes beside the checkout.
+inline std::string shared_scenes_location() {
+  if (const char* env = std::getenv("CANDELA_SCENES"); env != nullptr && *env != '\0') return env;
+  return std::string(CANDELA_SOURCE_DIR) + "/../shared/scenes";
+}
+
+// The shared scenes directory, or empty when it does not exist (a machine without ../shared).
 inline std::string shared_scenes_dir() {
-  if (const char* env = std::getenv("CANDELA_SCENES")) return env;
-  std::string dir = std::string(CANDELA_SOURCE_DIR) + "/../shared/scenes";
+  std::string dir = shared_scenes_location();
   return std::filesystem::is_directory(dir) ? dir : std::string();
+}
+
+// What a test that needs the shared scenes says when it skips (make test counts and prints these).
+inline std::string shared_scenes_skip_reason() {
+  if (!shared_scenes_dir().empty()) return "a shared scene file is missing (the test failed above)";
+  return "shared scenes not installed: " + shared_scenes_location() + " does not exist";
+}
+
+// The full path of `relative` under the shared scenes. Empty when the directory is absent: the caller
+// skips (GTEST_SKIP() << shared_scenes_skip_reason()). When the directory exists, the file must too: a
+// missing one fails the current test here (and the caller's skip then cannot hide it; a test that failed
+// and skipped counts as failed).
+inline std::string shared_scene_file(const std::string& relative) {
+  const std::string dir = shared_scenes_dir();
+  if (dir.empty()) return {};
+  const std::string path = dir + "/" + relative;
+  if (!std::filesystem::is_regular_file(path)) {
+    ADD_FAILURE() << path << " is missing, but the shared scenes directory " << dir
+                  << " exists (a partial copy?): tests that need it fail rather than skip";
+    return {};
+  }
+  return path;
 }
 
 // Regularised upper incomplete gamma Q(a, x), by its series for x < a + 1 and its continued fraction
