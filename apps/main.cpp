@@ -312,6 +312,8 @@ int main(int argc, char** argv) {
   view->add_option("--show", viewer.view, "What is displayed first: radiance, or a debug view of the G-buffer (albedo, normal, "
                                           "depth, motion) or of the reservoirs (reservoir-m, reservoir-w; restir-di or restir)")
       ->transform(CLI::CheckedTransformer(views))->capture_default_str();
+  view->add_flag("--no-hud", [&viewer](int64_t) { viewer.hud = false; },
+                 "Show the frame alone, without the HUD (screenshots then equal `render` over the whole frame)");
   view->add_option("--test-minimise", viewer.test_minimise_frame, "Test hook: minimise the window for 3 frames from this frame on")
       ->check(CLI::Range(0, 1 << 24));
 

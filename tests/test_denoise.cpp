@@ -88,14 +88,16 @@ double rel_mse_where(const Image& image, const Image& reference, const std::func
   return sum / double(n);
 }
 
-// The relMSE of a 1-spp direct-light frame against the converged reference falls at least 5x (the
-// issue's requirement), bias from blurring (soft and contact shadows) included:
-//  - SVGF, after 8 frames of a still camera with independent noise, over the whole image;
-//  - the cross-bilateral filter (last frame alone) over the pixels it filters. It cannot reach 5x over
-//    the whole image: the pixels on either side of an emitter's border keep their input (see
-//    Guides::filtered: the path tracer's primary samples are not the G-buffer's, so L - Le is not the
-//    reflected light there) and carry most of the input's error at 1 spp; SVGF accumulates them over
-//    time. Over the whole image it must still lower the error.
+// The relMSE of a 1-spp direct-light frame against the converged reference falls at least 5x over the
+// whole image (the requirement), bias from blurring (soft and contact shadows) included:
+//  - SVGF, after 8 frames of a still camera with independent noise;
+//  - the cross-bilateral filter, last frame alone. It used to be claimed over the pixels it filters only
+//    (Guides::filtered: the pixels on either side of an emitter's border keep their input), when the
+//    noisy frames were jittered and the whole image reached 1.3x (cornell) and 3.3x (manylights); with
+//    frames through pixel centres, as the reference, it measures 7.0x and 7.9x over the whole image
+//    (7.0x and 15.0x over the filtered pixels, 55% and 73% of the image, printed).
+// No statistical tolerance: fixed seeds; measured margins over 5x: bilateral 7.0x and 7.9x, SVGF 5.6x and
+// 62.9x (cornell, manylights).
 void expect_five_times_lower(const Scene& scene, const char* name) {
   Image reference = render_reference(scene);
   Sequence s = render_sequence(scene, 8, 5);
@@ -103,17 +105,19 @@ void expect_five_times_lower(const Scene& scene, const char* name) {
   compute_guides(s.gbuffers.back(), guides);
   auto filtered = [&](size_t i) { return guides.filtered[i] != 0; };
   auto all = [](size_t) { return true; };
+  size_t filtered_count = 0;
+  for (size_t i = 0; i < guides.filtered.size(); ++i) filtered_count += filtered(i);
   Image bilateral = denoise_sequence(DenoiserKind::Bilateral, s), svgf = denoise_sequence(DenoiserKind::Svgf, s);
   double input = rel_mse_where(s.noisy.back(), reference, all), input_filtered = rel_mse_where(s.noisy.back(), reference, filtered);
   double bilateral_all = rel_mse_where(bilateral, reference, all), bilateral_filtered = rel_mse_where(bilateral, reference, filtered);
   double svgf_all = rel_mse_where(svgf, reference, all);
   std::printf("%s relMSE, whole image: input %.4f, bilateral %.4f (%.1fx lower), svgf %.4f (%.1fx lower); "
-              "filtered pixels: input %.4f, bilateral %.4f (%.1fx lower)\n", name, input, bilateral_all,
-              input / bilateral_all, svgf_all, input / svgf_all, input_filtered, bilateral_filtered,
+              "filtered pixels (%.1f%% of the image): input %.4f, bilateral %.4f (%.1fx lower)\n", name, input,
+              bilateral_all, input / bilateral_all, svgf_all, input / svgf_all,
+              100.0 * double(filtered_count) / double(guides.filtered.size()), input_filtered, bilateral_filtered,
               input_filtered / bilateral_filtered);
   EXPECT_LT(svgf_all * 5.0, input) << name;
-  EXPECT_LT(bilateral_filtered * 5.0, input_filtered) << name;
-  EXPECT_LT(bilateral_all, input) << name;
+  EXPECT_LT(bilateral_all * 5.0, input) << name;
 }
 
 TEST(DenoiseRendered, CornellErrorFiveTimesLower) { expect_five_times_lower(make_cornell_scene(), "cornell"); }

@@ -102,7 +102,8 @@ bool Viewer::step() {
     display_->upload(to_display_pixels(display_view_image(*renderer_, hud_.view), display_view_tonemapped(hud_.view), hud_.exposure));
     display_->draw(in.framebuffer_width, in.framebuffer_height);
     history_.push(frame_ms, std::move(stats));
-    HudActions actions = draw_hud(hud_, history_, *renderer_, camera_.desc(), hud_rect_);
+    HudActions actions;  // without the HUD (--no-hud), ImGui draws nothing and nothing is clicked
+    if (options_.hud) actions = draw_hud(hud_, history_, *renderer_, camera_.desc(), hud_rect_);
     imgui_->render(in.framebuffer_width, in.framebuffer_height);
     framebuffer_width_ = in.framebuffer_width;
     framebuffer_height_ = in.framebuffer_height;
@@ -145,8 +146,10 @@ int run_viewer(const Scene& scene, const RenderSettings& settings, const ViewerO
   if (!options.screenshot.empty()) viewer.write_framebuffer(options.screenshot);
   if (!options.quiet) {
     const HudRect& hud = viewer.hud_rect();
-    std::fprintf(stderr, "view: %d frames in %.2f s (%.1f fps), HUD at %.0f %.0f size %.0f x %.0f\n", viewer.frames_done(),
-                 seconds, viewer.frames_done() / std::max(seconds, 1e-9), hud.x, hud.y, hud.width, hud.height);
+    std::fprintf(stderr, "view: %d frames in %.2f s (%.1f fps), ", viewer.frames_done(), seconds,
+                 viewer.frames_done() / std::max(seconds, 1e-9));
+    if (options.hud) std::fprintf(stderr, "HUD at %.0f %.0f size %.0f x %.0f\n", hud.x, hud.y, hud.width, hud.height);
+    else std::fprintf(stderr, "HUD off\n");
     if (!options.screenshot.empty()) std::fprintf(stderr, "wrote %s\n", options.screenshot.c_str());
   }
   return 0;

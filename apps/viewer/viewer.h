@@ -26,6 +26,7 @@ struct ViewerOptions {
   float exposure = 1.0f;
   DisplayView view = DisplayView::Radiance;  // what is shown first
   int test_minimise_frame = -1;   // test hook: minimise the window for 3 frames starting at this frame
+  bool hud = true;                // draw the HUD over the frame (false: --no-hud, the frame alone)
   bool quiet = false;
 };
 
