@@ -5,6 +5,6 @@
 log=${1:-Testing/Temporary/LastTest.log}
 [ -f "$log" ] || exit 0
 skipped=$(grep -c ': Skipped$' "$log")
-[ "$skipped" -eq 0 ] && exit 0
+if [ "$skipped" -eq 0 ]; then echo "0 tests skipped"; exit 0; fi
 echo "$skipped tests skipped; reasons (count, message):"
 awk 'found { print "  " $0; found = 0 } /: Skipped$/ { found = 1 }' "$log" | sort | uniq -c
