@@ -3,7 +3,7 @@
 #   make test  installs missing packages, builds, runs every test in ctest
 # and the checked builds, each in its own directory (README, "Robustness"):
 #   make test-sanitize  AddressSanitizer + UndefinedBehaviorSanitizer: unit and command-line tests (CI)
-#   make test-tsan      ThreadSanitizer: a few frames of every method and denoiser
+#   make test-tsan      ThreadSanitizer: a few frames of every method and denoiser (CI)
 #   make fuzz           libFuzzer (clang): the glTF loader and the shot-script reader, FUZZ_SECONDS each
 BUILD ?= build
 JOBS ?= 2
