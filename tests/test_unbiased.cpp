@@ -1,6 +1,7 @@
 // Unbiasedness of ReSTIR DI and GI, judged by the one harness (tests/unbiasedness.h): independent runs of
 // each mode against independent runs of the path tracer, per-tile chi-square and image mean, each with the
-// smallest bias it detects, and the known-biased modes rejected in the same setting.
+// smallest bias it detects, and the known-biased modes rejected in the same setting; and the harness'
+// own checks (Statistics.*: its distributions against tables, its verdicts on synthetic runs).
 #include <gtest/gtest.h>
 
 #include "apps/renderer.h"
