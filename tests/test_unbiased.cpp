@@ -56,9 +56,9 @@ testing::Runs path_traced_runs(const Scene& scene, int w, int h, int depth, int 
 // basic and pairwise, without visibility anywhere and with visibility-tested candidates plus visibility in
 // the weights. Known biased, so the harness must reject them here: visibility-tested candidates with
 // weights that ignore visibility, for basic (the broken weight) and for none (1/M). Measured (2026-12-01):
-// the unbiased four within 0.1% (detecting 0.7-0.8%), the biased two 1.4% dark at 8-10 standard errors.
+// the unbiased four within 0.12% (detecting 0.8-0.9%), the biased two 1.3-1.5% dark at 8 standard errors.
 // Plain "none" is printed, not judged: where every neighbour's target has the same support, 1/M weights
-// sum to one too (measured -0.00%).
+// sum to one too (measured -0.08%).
 TEST(Unbiased, RestirDi) {
   const Scene scene = make_manylights_scene(256, 7);
   const int w = 48, h = 27, runs = 192, frames = 6;
@@ -179,8 +179,9 @@ TEST(Unbiased, RestirGiAcrossOccluders) {
 
 // The cars' lights and the camera move; materials as they are (glossy too, where ReSTIR GI's reuse of a
 // sample point's radiance is an approximation). 32 runs resolve biases of about 6%: the single runs of
-// the earlier test (GI 0.942 of the path tracer, DI 1.011) were noise. Measured (2026-12-01): DI +1.4%,
-// DI + GI +1.1%, both within 1.4 standard errors (on an all-Lambert city, +0.4% and +0.5%).
+// the earlier test (GI 0.942 of the path tracer, DI 1.011) were noise. Measured (2026-12-01): DI +0.5%,
+// DI + GI +0.3%, both within 0.5 standard errors (with 8 light candidates +1.4% and +1.1%; on an
+// all-Lambert city +0.4% and +0.5%).
 TEST(Unbiased, FlythroughCity) {
   const int w = 48, h = 27, frames = 30, runs = 32, depth = 3;
   const Scene scene = make_city_scene(7);
