@@ -1,6 +1,5 @@
 #include "engine/lights.h"
 
-
 #include "engine/check.h"
 #include "engine/parallel.h"
 #include "engine/surface.h"

@@ -1,6 +1,7 @@
 #pragma once
-// Tile-parallel loop over an image: square tiles handed to TBB workers (engine/parallel.h), each worker with flush-to-zero
-// set. The result never depends on which thread ran which tile (stages key randomness on pixels).
+// Tile-parallel loop over an image: square tiles handed to the workers of engine/parallel.h, each worker
+// with flush-to-zero set. The result never depends on which thread ran which tile (stages key randomness
+// on pixels).
 #include "engine/frame_stats.h"
 #include "engine/parallel.h"
 #include "engine/tracer.h"

@@ -98,13 +98,7 @@ TEST(Unbiased, LightSamplersAndRestirDiCandidates) {
   add_punctual_lights(scene);
   constexpr int kW = 32, kH = 18;
   auto runs_of = [&](const RenderSettings& base, int runs, int frames, uint64_t seed) {
-    return testing::collect_runs(runs, 8, 4, [&](int run) {
-      RenderSettings s = base;
-      s.seed = seed + uint64_t(run);
-      Renderer renderer(scene, s);
-      for (int frame = 0; frame < frames; ++frame) testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
-      return renderer.image();
-    });
+    return testing::renderer_runs(scene, base, runs, frames, seed);
   };
   auto direct = [&](LightSamplerKind kind, int spp) {
     RenderSettings s;

@@ -14,7 +14,8 @@
 namespace candela {
 namespace {
 
-constexpr int kTilesX = 8, kTilesY = 4;
+using testing::kTilesX;
+using testing::kTilesY;
 
 // Settings of every run: pixel centres (only the estimator is random), no accumulation.
 RenderSettings run_settings(int w, int h, Method method, uint64_t seed) {
@@ -30,25 +31,15 @@ RenderSettings run_settings(int w, int h, Method method, uint64_t seed) {
 
 // `runs` runs of `frames` still frames each; the last frame's image.
 testing::Runs restir_runs(const Scene& scene, const RenderSettings& base, int runs, int frames, uint64_t seed) {
-  return testing::collect_runs(runs, kTilesX, kTilesY, [&](int run) {
-    RenderSettings s = base;
-    s.seed = seed + uint64_t(run);
-    Renderer renderer(scene, s);
-    for (int frame = 0; frame < frames; ++frame) testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
-    return renderer.image();
-  });
+  return testing::renderer_runs(scene, base, runs, frames, seed);
 }
 
 // `runs` path-traced images of `spp` samples of at most `depth` bounces.
 testing::Runs path_traced_runs(const Scene& scene, int w, int h, int depth, int spp, int runs, uint64_t seed) {
-  return testing::collect_runs(runs, kTilesX, kTilesY, [&](int run) {
-    RenderSettings s = run_settings(w, h, Method::PathTrace, seed + uint64_t(run));
-    s.max_depth = depth;
-    s.spp = spp;
-    Renderer renderer(scene, s);
-    testing::render_checked(renderer, 0, 0.0f, scene.default_camera());
-    return renderer.image();
-  });
+  RenderSettings s = run_settings(w, h, Method::PathTrace, 0);
+  s.max_depth = depth;
+  s.spp = spp;
+  return testing::renderer_runs(scene, s, runs, 1, seed);
 }
 
 // ReSTIR DI with temporal and spatial reuse on still manylights (256 lights), 48x27, 192 runs of 6
@@ -225,14 +216,7 @@ TEST(Unbiased, MovingLights) {
     RenderSettings s = run_settings(w, h, Method::RestirDi, 0);
     s.di_reuse.spatial_radius = 6.0f;
     s.stale_light_history = stale;
-    const testing::Runs estimate = testing::collect_runs(runs, kTilesX, kTilesY, [&](int run) {
-      RenderSettings r = s;
-      r.seed = 100 + uint64_t(run);
-      Renderer renderer(scene, r);
-      for (int frame = 0; frame < frames; ++frame) testing::render_checked(renderer, frame, frame / 30.0f, scene.default_camera());
-      return renderer.image();
-    });
-    const testing::Verdict v = testing::compare_runs(estimate, reference);
+    const testing::Verdict v = testing::compare_runs(testing::renderer_runs(scene, s, runs, frames, 100, 30.0f), reference);
     if (stale) testing::expect_biased("moving lights, stale placement", v);
     else testing::expect_unbiased("moving lights", v, 0.01);
   }

@@ -24,7 +24,9 @@
 #include <string>
 #include <vector>
 
+#include "apps/renderer.h"
 #include "engine/image.h"
+#include "tests/render_helpers.h"
 #include "tests/test_util.h"
 
 namespace candela::testing {
@@ -120,6 +122,23 @@ inline Runs collect_runs(int runs, int tiles_x, int tiles_y, const std::function
     r.image.push_back(total / (double(img.width) * img.height));
   }
   return r;
+}
+
+// The tiles every Unbiased.* test uses.
+inline constexpr int kTilesX = 8, kTilesY = 4;
+
+// `runs` independent runs of a Renderer with `base` (seed: seed + run), `frames` frames each from the
+// scene's camera, frame f at scene time f / fps (0 with fps 0: a still scene); each run's last image.
+inline Runs renderer_runs(const Scene& scene, const RenderSettings& base, int runs, int frames, uint64_t seed,
+                          float fps = 0.0f) {
+  return collect_runs(runs, kTilesX, kTilesY, [&](int run) {
+    RenderSettings s = base;
+    s.seed = seed + uint64_t(run);
+    Renderer renderer(scene, s);
+    for (int frame = 0; frame < frames; ++frame)
+      render_checked(renderer, frame, fps > 0.0f ? frame / fps : 0.0f, scene.default_camera());
+    return renderer.image();
+  });
 }
 
 // The verdict of comparing an estimator's runs with a reference's.
