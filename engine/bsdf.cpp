@@ -92,6 +92,30 @@ float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
   return ps * pdf_spec + (1.0f - ps) * pdf_diff;
 }
 
+BsdfWoTerms Bsdf::wo_terms(const vec3& wo) const {
+  BsdfWoTerms t;
+  t.n = frame_.n;
+  t.cos_o = glm::dot(frame_.n, wo);
+  t.alpha = alpha_;
+  t.f0 = f0_;
+  t.f90 = f90_;
+  t.ms = ms_;
+  t.d_f0 = d_f0_;
+  t.d_ms = d_ms_;
+  t.d_f90 = d_f90_;
+  t.albedo_row = albedo_.row_offset();
+  t.albedo_weight = albedo_.row_weight();
+  if (t.cos_o <= 0.0f) return t;
+  float a2 = alpha_ * alpha_;
+  t.s_o = std::sqrt(t.cos_o * t.cos_o * (1.0f - a2) + a2);
+  GgxAlbedo e_o = albedo_.at(t.cos_o);
+  t.ms_o = std::max(1.0f - e_o.a, 0.0f);
+  t.base_o = base_scale_ * glm::max(vec3(1.0f) - layer_albedo(e_o), vec3(0.0f));
+  t.g1_o = 1.0f / (1.0f + ggx_lambda(t.cos_o, alpha_));
+  t.p_specular = specular_probability(e_o);
+  return t;
+}
+
 bool Bsdf::sample(const vec3& wo_world, vec2 u, float u_lobe, BsdfSample& out) const {
   vec3 wo = frame_.to_local(wo_world);
   if (wo.z <= 0.0f) return false;

@@ -30,6 +30,27 @@ struct BsdfSample {
   float pdf = 0.0f; // solid-angle density of wi under sample() (both lobes)
 };
 
+// What Bsdf::eval and Bsdf::pdf compute from wo alone, for kernels that evaluate one wo against many wi in
+// SIMD lanes (restir/target_lanes.cpp). The expressions are eval's and pdf's, so such a kernel can give
+// their bits (tests/test_target_lanes.cpp checks that it does).
+struct BsdfWoTerms {
+  vec3 n{0.0f};                 // shading normal
+  float cos_o = 0.0f;           // n.wo (eval and pdf are 0 unless positive)
+  float alpha = 1.0f;
+  float s_o = 1.0f;             // sqrt(cos_o^2 (1 - alpha^2) + alpha^2)
+  vec3 f0{0.0f};
+  float f90 = 0.0f;
+  vec3 ms{0.0f};                // f_ms = ms (ms_o (1 - a(mu_i)))
+  float ms_o = 0.0f;            // max(1 - a(mu_o), 0)
+  vec3 base_o{0.0f};            // f_base = base_o max(1 - E_d(mu_i), 0)
+  vec3 d_f0{0.0f}, d_ms{0.0f};  // the dielectric layer, for E_d(mu_i)
+  float d_f90 = 0.0f;
+  size_t albedo_row = 0;        // GgxAlbedoRow::row_offset
+  float albedo_weight = 0.0f;   // GgxAlbedoRow::row_weight
+  float g1_o = 0.0f;            // G1(wo), for pdf
+  float p_specular = 0.0f;      // probability of the single-scattering lobe at wo, for pdf
+};
+
 class Bsdf {
  public:
   Bsdf() = default;
@@ -41,6 +62,7 @@ class Bsdf {
 
   vec3 eval(const vec3& wo, const vec3& wi) const;
   float pdf(const vec3& wo, const vec3& wi) const;
+  BsdfWoTerms wo_terms(const vec3& wo) const;
   // u: two uniforms for the direction, u_lobe: one uniform for the lobe choice. False if no sample.
   bool sample(const vec3& wo, vec2 u, float u_lobe, BsdfSample& out) const;
 

@@ -48,6 +48,10 @@ class GgxAlbedoRow {
     return {a0 + t_ * (a1 - a0), b0 + t_ * (b1 - b0)};
   }
   GgxAlbedo average() const { return avg_; }  // cosine-weighted hemispherical average (a_avg, b_avg)
+  // Where at() reads: the offset of the lower roughness row in kGgxAlbedoEntries (the upper row follows it)
+  // and the upper row's weight, for kernels that look up many cosines at once (restir/target_lanes.cpp).
+  size_t row_offset() const { return size_t(row0_ - kGgxAlbedoEntries); }
+  float row_weight() const { return t_; }
 
  private:
   const float* row0_ = nullptr;  // (a, b) pairs of the table row of the lower roughness

@@ -37,6 +37,8 @@ struct DiParams {
                                  // 4 beat 8 at equal time on manylights, city and occluded_room (README, "Spatial neighbours")
   int bsdf_candidates = 1;       // M_b: candidates from BSDF sampling that hit an emitter (cost: one ray each)
   bool candidate_visibility = false;  // trace a shadow ray to the chosen candidate and drop it if occluded (1 ray per pixel)
+  bool simd = true;              // evaluate light candidates in SIMD lanes (target_lanes.h); false: the scalar
+                                 // reference, which gives the same bits
   uint64_t seed = 0;
 };
 
@@ -100,78 +102,6 @@ inline DiSample di_sample_at(const Scene& scene, const LightList& lights, uint32
   float su = b.x + b.y;
   vec2 uv(std::min(su * su, 1.0f - 0x1p-24f), su > 0.0f ? std::min(b.y / su, 1.0f - 0x1p-24f) : 0.0f);
   return di_resolve(scene, lights, light, uv);
-}
-
-// Stage "di_candidates": reads the G-buffer and packed surfaces, writes one reservoir per pixel from M_l light candidates
-// and M_b BSDF candidates, combined by the balance heuristic in area measure: each candidate x gets
-// w = p_hat(x) / (M_l p_light(x) + M_b p_bsdf(x)) (Talbot et al. 2005; Bitterli et al. 2020, sec. 3).
-// Light no light technique can sample (the environment, emitters below the light list's threshold)
-// reaches the pixel only through the BSDF candidates: their plain estimate of it goes to `unsampled`
-// (zero without BSDF candidates). Cost per pixel: M_l light samples, M_l + M_b BSDF evaluations, M_b
-// rays, plus one shadow ray with candidate_visibility. Targets use the packed surface (`domain`), BSDF
-// sampling and its density the exact one.
-template <LightSampler S>
-void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                           const DiParams& params, int frame, std::vector<DiReservoir>& out, std::vector<vec3>& unsampled,
-                           RayCounter& rays) {
-  out.assign(g.size(), DiReservoir{});
-  unsampled.assign(g.size(), vec3(0.0f));
-  for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
-    if (!g.hit(i)) return 0;
-    Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
-    ShadingContext ctx{g.position[i], g.shading_normal[i]};
-    const DiReceiver target = di_receiver(domain, i);
-    const DiReceiver receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
-    DiReservoir& r = out[i];
-    const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
-    // Area density with which BSDF sampling reaches the sample's point (0 for delta lights).
-    auto bsdf_area_pdf = [&](const DiContribution& c) {
-      if (M_b == 0.0f || c.light.is_delta) return 0.0f;
-      float d = c.light.distance;
-      return receiver.bsdf.pdf(receiver.wo, c.light.wi) * std::abs(glm::dot(c.light.normal, c.light.wi)) / (d * d);
-    };
-    for (int k = 0; k < params.light_candidates; ++k) {
-      SampledLight chosen = sampler.sample(ctx, vec2(rng.next_float(), rng.next_float()));
-      vec2 uv(rng.next_float(), rng.next_float());
-      float u = rng.next_float();
-      if (chosen.pmf <= 0.0f) continue;
-      DiSample s = di_resolve(view.scene, view.lights, chosen.index, uv);
-      DiContribution c = di_contribution(target, s);
-      float p_hat = di_target(c);
-      if (p_hat <= 0.0f) continue;
-      float p_light = chosen.pmf * di_area_pdf(view.lights, chosen.index);
-      r.update(s, p_hat / (M_l * p_light + M_b * bsdf_area_pdf(c)), p_hat, u);
-    }
-    uint64_t traced = 0;
-    for (int k = 0; k < params.bsdf_candidates; ++k) {
-      BsdfSample bs;
-      vec2 ub(rng.next_float(), rng.next_float());
-      float lobe = rng.next_float(), u = rng.next_float();
-      if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f) continue;
-      ++traced;
-      Hit hit = view.tracer.intersect(view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi));
-      int64_t light = hit.valid() ? view.lights.light_index(hit.instance, hit.prim) : -1;
-      if (light < 0) {
-        vec3 L = !hit.valid() ? view.lights.environment()
-                 : view.scene.material_of(hit.instance).emissive()
-                     ? surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -bs.wi).emission
-                     : vec3(0.0f);
-        unsampled[i] += bs.f * (std::abs(glm::dot(bs.wi, receiver.shading_normal)) / bs.pdf) * L / M_b;
-        continue;
-      }
-      DiSample s = di_sample_at(view.scene, view.lights, uint32_t(light), hit.barycentric);
-      DiContribution c = di_contribution(target, s);
-      float p_hat = di_target(c);
-      if (p_hat <= 0.0f) continue;
-      float p_light = sampler.pmf(ctx, uint32_t(light)) * di_area_pdf(view.lights, uint32_t(light));
-      r.update(s, p_hat / (M_l * p_light + M_b * bsdf_area_pdf(c)), p_hat, u);
-    }
-    r.M = M_l + M_b;
-    r.finalize();
-    if (!params.candidate_visibility || r.W <= 0.0f) return traced;
-    if (di_occluded(view, g, i, di_contribution(receiver, r.y).light)) r.W = 0.0f;
-    return traced + 1;
-  });
 }
 
 // A debug view of reservoirs: their confidence M, their contribution weight W, or the chosen light

@@ -9,6 +9,7 @@
 #include "engine/frame_stats.h"
 #include "engine/image.h"
 #include "restir/di.h"
+#include "restir/di_candidates.h"
 #include "restir/di_reuse.h"
 #include "restir/gi.h"
 

@@ -1,0 +1,26 @@
+#include "restir/di_candidates.h"
+
+namespace candela {
+
+void DiCandidateBatch::resize(int light_candidates) {
+  const size_t k = size_t(std::max(light_candidates, 0));
+  planes.resize(k);
+  sample.resize(k * kLaneSlots);
+  p_light.resize(k * kLaneSlots);
+  u.resize(k * kLaneSlots);
+}
+
+void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBatch& batch) {
+  for (int k = 0; k < params.light_candidates; ++k) {
+    CandidateLanes& plane = batch.planes[size_t(k)];
+    for (int s = 0; s < slots; ++s) {
+      if (plane.active[s] == 0.0f) continue;
+      const DiCandidateBatch::Slot& b = batch.slot[s];
+      DiContribution c = di_contribution(b.target, batch.sample[size_t(k) * kLaneSlots + size_t(s)]);
+      plane.p_hat[s] = di_target(c);
+      plane.bsdf_area_pdf[s] = di_bsdf_area_pdf(b.receiver, c, params.bsdf_candidates);
+    }
+  }
+}
+
+}  // namespace candela

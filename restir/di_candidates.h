@@ -1,0 +1,161 @@
+#pragma once
+// ReSTIR DI's first stage: resampled importance sampling of each pixel's light and BSDF candidates into
+// its reservoir (Bitterli et al. 2020, sec. 3 and Alg. 3), one tile row of pixels at a time so that the
+// light candidates' targets are evaluated in SIMD lanes (target_lanes.h) between drawing them and
+// resampling them.
+#include <vector>
+
+#include "restir/di.h"
+#include "restir/target_lanes.h"
+
+namespace candela {
+
+// One tile row's candidates in flight: per pixel (slot) its receivers, random stream and light-sampling
+// context, and per light candidate k the drawn sample, its light-sampling density and resampling uniform,
+// beside the lanes the evaluation reads and writes.
+struct DiCandidateBatch {
+  ReceiverLanes lanes;
+  std::vector<CandidateLanes> planes;  // one per light candidate
+  struct Slot {
+    bool hit = false;
+    Rng rng;
+    DiReceiver target, receiver;   // packed (targets) and exact (BSDF sampling, densities, visibility)
+    ShadingContext ctx;
+  } slot[kLaneSlots];
+  std::vector<DiSample> sample;   // [k * kLaneSlots + slot]
+  std::vector<float> p_light, u;  // light-sampling area density (0: no light chosen), resampling uniform
+  void resize(int light_candidates);
+};
+
+// Stage "di_candidates", part 1 (per pixel): the pixel's receivers, its M_l light candidates drawn from
+// the sampler and placed on their lights, into the batch's slot and lanes.
+template <LightSampler S>
+void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
+                           const DiParams& params, int frame, size_t i, int slot, DiCandidateBatch& batch) {
+  DiCandidateBatch::Slot& b = batch.slot[slot];
+  b.hit = g.hit(i);
+  for (int k = 0; k < params.light_candidates; ++k) batch.planes[size_t(k)].clear(slot);
+  if (!b.hit) {
+    batch.lanes.clear(slot);
+    return;
+  }
+  b.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
+  b.ctx = ShadingContext{g.position[i], g.shading_normal[i]};
+  b.target = di_receiver(domain, i);
+  b.receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
+  batch.lanes.set(slot, b.target.position, b.target.geometric_normal, b.target.wo, b.target.bsdf.wo_terms(b.target.wo),
+                  b.receiver.bsdf.wo_terms(b.receiver.wo));
+  for (int k = 0; k < params.light_candidates; ++k) {
+    const size_t at = size_t(k) * kLaneSlots + size_t(slot);
+    SampledLight chosen = sampler.sample(b.ctx, vec2(b.rng.next_float(), b.rng.next_float()));
+    vec2 uv(b.rng.next_float(), b.rng.next_float());
+    batch.u[at] = b.rng.next_float();
+    batch.p_light[at] = 0.0f;
+    if (chosen.pmf <= 0.0f) continue;
+    batch.sample[at] = di_resolve(view.scene, view.lights, chosen.index, uv);
+    batch.p_light[at] = chosen.pmf * di_area_pdf(view.lights, chosen.index);
+    if (chosen.index < view.lights.triangle_count()) batch.planes[size_t(k)].set(slot, batch.sample[at].point);
+  }
+}
+
+// Area density with which BSDF sampling at the receiver reaches a light sample (0 for delta lights, and
+// without BSDF candidates).
+inline float di_bsdf_area_pdf(const DiReceiver& receiver, const DiContribution& c, int bsdf_candidates) {
+  if (bsdf_candidates == 0 || c.light.is_delta) return 0.0f;
+  float d = c.light.distance;
+  return receiver.bsdf.pdf(receiver.wo, c.light.wi) * std::abs(glm::dot(c.light.normal, c.light.wi)) / (d * d);
+}
+
+// Part 2, the scalar reference of evaluate_candidate_lanes: p_hat and BSDF area density of the active
+// candidates of `slots` slots, one at a time through di_contribution.
+void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBatch& batch);
+
+// Part 3 (per pixel): the light candidates resampled with their evaluated targets, then M_b BSDF candidates
+// (one ray each), combined by the balance heuristic in area measure: each candidate x gets
+// w = p_hat(x) / (M_l p_light(x) + M_b p_bsdf(x)) (Talbot et al. 2005; Bitterli et al. 2020, sec. 3).
+// Light no light technique can sample (the environment, emitters below the light list's threshold)
+// reaches the pixel only through the BSDF candidates: their plain estimate of it goes to `unsampled`.
+// With candidate_visibility, one shadow ray to the kept sample. Returns the rays traced.
+template <LightSampler S>
+uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiParams& params, int slot,
+                             DiCandidateBatch& batch, DiReservoir& r, vec3& unsampled) {
+  DiCandidateBatch::Slot& b = batch.slot[slot];
+  if (!b.hit) return 0;
+  const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
+  for (int k = 0; k < params.light_candidates; ++k) {
+    const size_t at = size_t(k) * kLaneSlots + size_t(slot);
+    if (batch.p_light[at] <= 0.0f) continue;
+    const DiSample& s = batch.sample[at];
+    float p_hat = batch.planes[size_t(k)].p_hat[slot], p_bsdf = batch.planes[size_t(k)].bsdf_area_pdf[slot];
+    if (s.light >= view.lights.triangle_count()) {  // punctual: not in the lanes
+      DiContribution c = di_contribution(b.target, s);
+      p_hat = di_target(c);
+      p_bsdf = 0.0f;
+    }
+    if (p_hat <= 0.0f) continue;
+    r.update(s, p_hat / (M_l * batch.p_light[at] + M_b * p_bsdf), p_hat, batch.u[at]);
+  }
+  const DiReceiver& receiver = b.receiver;
+  uint64_t traced = 0;
+  for (int k = 0; k < params.bsdf_candidates; ++k) {
+    BsdfSample bs;
+    vec2 ub(b.rng.next_float(), b.rng.next_float());
+    float lobe = b.rng.next_float(), u = b.rng.next_float();
+    if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f) continue;
+    ++traced;
+    Hit hit = view.tracer.intersect(view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi));
+    int64_t light = hit.valid() ? view.lights.light_index(hit.instance, hit.prim) : -1;
+    if (light < 0) {
+      vec3 L = !hit.valid() ? view.lights.environment()
+               : view.scene.material_of(hit.instance).emissive()
+                   ? surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -bs.wi).emission
+                   : vec3(0.0f);
+      unsampled += bs.f * (std::abs(glm::dot(bs.wi, receiver.shading_normal)) / bs.pdf) * L / M_b;
+      continue;
+    }
+    DiSample s = di_sample_at(view.scene, view.lights, uint32_t(light), hit.barycentric);
+    DiContribution c = di_contribution(b.target, s);
+    float p_hat = di_target(c);
+    if (p_hat <= 0.0f) continue;
+    float p_light = sampler.pmf(b.ctx, uint32_t(light)) * di_area_pdf(view.lights, uint32_t(light));
+    r.update(s, p_hat / (M_l * p_light + M_b * di_bsdf_area_pdf(receiver, c, params.bsdf_candidates)), p_hat, u);
+  }
+  r.M = M_l + M_b;
+  r.finalize();
+  if (!params.candidate_visibility || r.W <= 0.0f) return traced;
+  if (view.tracer.occluded(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal,
+                                      di_contribution(receiver, r.y).light)))
+    r.W = 0.0f;
+  return traced + 1;
+}
+
+// Stage "di_candidates": reads the G-buffer (BSDF sampling and densities: the exact surface) and the
+// packed surfaces (targets), writes one reservoir per pixel and the light only BSDF candidates reach
+// (`unsampled`; zero without them). Cost per pixel: M_l light samples and target evaluations (in lanes
+// with params.simd), M_b BSDF samples, evaluations and rays, plus one shadow ray with candidate_visibility.
+template <LightSampler S>
+void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
+                           const DiParams& params, int frame, std::vector<DiReservoir>& out, std::vector<vec3>& unsampled,
+                           RayCounter& rays) {
+  out.assign(g.size(), DiReservoir{});
+  unsampled.assign(g.size(), vec3(0.0f));
+  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+    thread_local DiCandidateBatch batch;
+    batch.resize(params.light_candidates);
+    const int slots = tile.x1 - tile.x0;
+    uint64_t traced = 0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      const size_t row = size_t(y) * size_t(g.width) + size_t(tile.x0);
+      for (int s = 0; s < slots; ++s) draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, batch);
+      if (params.simd)
+        evaluate_candidate_lanes(batch.lanes, batch.planes.data(), params.light_candidates, slots, params.bsdf_candidates > 0);
+      else
+        evaluate_candidates_scalar(params, slots, batch);
+      for (int s = 0; s < slots; ++s)
+        traced += resample_candidates(view, sampler, params, s, batch, out[row + s], unsampled[row + s]);
+    }
+    rays.add(traced);
+  });
+}
+
+}  // namespace candela

@@ -1,0 +1,68 @@
+#pragma once
+// ReSTIR DI's light candidates evaluated in SIMD lanes: the target function p_hat (di_target of
+// di_contribution) and the BSDF's area density at each candidate, for one tile row of pixels at a time,
+// laid out as structure-of-arrays planes so that one vector holds the same term of 8 (AVX2) or 16
+// (AVX-512) pixels. The kernel is written with Google Highway and picks the widest instruction set of the
+// running CPU (runtime dispatch). It performs the scalar code's operations in the scalar code's order,
+// without fused multiply-adds, so it returns the scalar code's bits (tests/test_target_lanes.cpp); the
+// scalar code (evaluate_candidates_scalar) stays as the reference.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "engine/bsdf.h"
+#include "engine/lights.h"
+#include "engine/tiles.h"
+
+namespace candela {
+
+inline constexpr int kLaneSlots = kTileWidth;  // pixels per batch: one tile row
+
+// Per pixel of a batch, what the target function and the BSDF density need of the receiver: the packed
+// surface's point, normals, direction to the eye and BSDF terms (the target), and the exact G-buffer
+// BSDF's terms (the density of BSDF sampling). Slots without a surface have cos_o = 0.
+struct ReceiverLanes {
+  alignas(64) float px[kLaneSlots], py[kLaneSlots], pz[kLaneSlots];
+  alignas(64) float gx[kLaneSlots], gy[kLaneSlots], gz[kLaneSlots];  // geometric normal
+  alignas(64) float wox[kLaneSlots], woy[kLaneSlots], woz[kLaneSlots];
+  struct BsdfPlanes {  // BsdfWoTerms, one plane per component
+    alignas(64) float nx[kLaneSlots], ny[kLaneSlots], nz[kLaneSlots];
+    alignas(64) float cos_o[kLaneSlots], alpha[kLaneSlots], s_o[kLaneSlots];
+    alignas(64) float f0[3][kLaneSlots], f90[kLaneSlots], ms[3][kLaneSlots], ms_o[kLaneSlots];
+    alignas(64) float base_o[3][kLaneSlots], d_f0[3][kLaneSlots], d_ms[3][kLaneSlots], d_f90[kLaneSlots];
+    alignas(64) int32_t albedo_row[kLaneSlots];
+    alignas(64) float albedo_weight[kLaneSlots], g1_o[kLaneSlots], p_specular[kLaneSlots];
+    void set(int slot, const BsdfWoTerms& t);
+  };
+  BsdfPlanes target, exact;
+  // Slot `slot`: the receiver at p (geometric normal ng) seen along wo, with the two BSDFs' terms.
+  void set(int slot, const vec3& p, const vec3& ng, const vec3& wo, const BsdfWoTerms& target_bsdf,
+           const BsdfWoTerms& exact_bsdf);
+  void clear(int slot);  // no surface: every candidate evaluates to 0
+};
+
+// Candidate k of every pixel of a batch: a point on a triangle light (position, normal, radiance and
+// whether both sides emit) where `active` is 1; the kernel writes p_hat and the BSDF's area density there.
+struct CandidateLanes {
+  alignas(64) float x[kLaneSlots], y[kLaneSlots], z[kLaneSlots];
+  alignas(64) float nx[kLaneSlots], ny[kLaneSlots], nz[kLaneSlots];
+  alignas(64) float radiance[3][kLaneSlots];
+  alignas(64) float two_sided[kLaneSlots], active[kLaneSlots];
+  alignas(64) float p_hat[kLaneSlots], bsdf_area_pdf[kLaneSlots];
+  void set(int slot, const LightPoint& point);
+  void clear(int slot);  // not a triangle-light point: p_hat and density left to the caller
+};
+
+// The kernel: p_hat and (with_bsdf_pdf) the BSDF area density of every active candidate of slots
+// [0, slots) of each of `count` candidate planes; inactive slots get 0. Cost per candidate: ~100 flops
+// and 8 table gathers, in lanes.
+void evaluate_candidate_lanes(const ReceiverLanes& receivers, CandidateLanes* candidates, int count, int slots,
+                              bool with_bsdf_pdf);
+
+// The name of the instruction set the kernel runs with on this CPU (for bench output).
+const char* candidate_lanes_target();
+// Calls fn once per instruction set that both this CPU supports and the kernel was compiled for (AVX-512,
+// AVX2, SSE4, ...), with the kernel dispatched to it meanwhile (tests: every code path on one machine).
+void for_each_candidate_lanes_target(const std::function<void(const char* name)>& fn);
+
+}  // namespace candela
