@@ -249,40 +249,66 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       return 1;
     });
   }
-  for_each_pixel(width, height, rays, [&](size_t i, int x, int y) -> uint64_t {
-    if (!surfaces[i].hit() || surfaces[i].roughness() < params.min_roughness) return 0;
+  // Neighbours: uniform points in the disk of the given radius, by rejection from the square (no
+  // trigonometry), drawn with the pixel's random stream, and their surfaces and reservoirs prefetched.
+  struct Drawn {
+    bool active = false;
+    Rng rng;
+    int count = 0;
+    size_t pixels[32];
+  };
+  auto draw = [&](size_t i, int x, int y, Drawn& d) {
+    d.count = 0;
+    d.active = surfaces[i].hit() && surfaces[i].roughness() >= params.min_roughness;
+    if (!d.active) return;
     const int neighbours = boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, 31);
-    Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
-    DiReuseInput inputs[32];
-    int count = 0;
-    inputs[count++] = {&in[i], &current, i, in[i].M};
-    // Neighbours: uniform points in the disk of the given radius, by rejection from the square (no
-    // trigonometry). All are drawn first and their surfaces and reservoirs prefetched, so that their cache
-    // misses overlap instead of following one another.
-    size_t candidates[32];
-    int drawn = 0;
+    d.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
     for (int k = 1; k < max_inputs; ++k) {
-      vec2 d;
-      do d = vec2(rng.next_float(), rng.next_float()) * 2.0f - 1.0f;
-      while (glm::dot(d, d) > 1.0f);
-      int nx = x + round_nearest(params.spatial_radius * d.x), ny = y + round_nearest(params.spatial_radius * d.y);
+      vec2 u;
+      do u = vec2(d.rng.next_float(), d.rng.next_float()) * 2.0f - 1.0f;
+      while (glm::dot(u, u) > 1.0f);
+      int nx = x + round_nearest(params.spatial_radius * u.x), ny = y + round_nearest(params.spatial_radius * u.y);
       if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
       size_t j = size_t(ny) * width + nx;
       __builtin_prefetch(&surfaces[j]);
       __builtin_prefetch(&in[j]);
       __builtin_prefetch(reinterpret_cast<const char*>(&in[j]) + sizeof(DiReservoir) - 1);
-      candidates[drawn++] = j;
+      d.pixels[d.count++] = j;
     }
+  };
+  // The pixel's similar neighbours combined with it.
+  auto reuse = [&](size_t i, Drawn& d) -> uint64_t {
+    if (!d.active) return 0;
+    DiReuseInput inputs[32];
+    int count = 0;
+    inputs[count++] = {&in[i], &current, i, in[i].M};
     const vec3 n = surfaces[i].shading_n();
-    for (int c = 0; c < drawn; ++c) {
-      size_t j = candidates[c];
+    for (int c = 0; c < d.count; ++c) {
+      size_t j = d.pixels[c];
       if (similar(surfaces[i], n, surfaces[j], params))
         inputs[count++] = {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
     }
     uint64_t traced = 0;
-    out[i] = combine(view, inputs, count, params, rng, traced);
+    out[i] = combine(view, inputs, count, params, d.rng, traced);
     return traced;
+  };
+  // Each pixel's neighbours are drawn one pixel ahead of its combination, so that the cache misses of
+  // their surfaces and reservoirs (the planes of the 33 rows within the radius exceed L2) overlap the
+  // previous pixel's work instead of stalling its own.
+  for_each_tile(width, height, [&](const Tile& tile) {
+    uint64_t traced = 0;
+    Drawn drawn[2];
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      const size_t row = size_t(y) * size_t(width);
+      draw(row + size_t(tile.x0), tile.x0, y, drawn[0]);
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        const int now = (x - tile.x0) & 1;
+        if (x + 1 < tile.x1) draw(row + size_t(x + 1), x + 1, y, drawn[now ^ 1]);
+        traced += reuse(row + size_t(x), drawn[now]);
+      }
+    }
+    rays.add(traced);
   });
 }
 
