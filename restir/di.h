@@ -93,8 +93,6 @@ DiContribution di_contribution(const DiReceiver& receiver, const DiSample& s);
 // Target function p_hat: luminance of the unshadowed contribution.
 inline float di_target(const DiContribution& c) { return luminance(c.value); }
 
-// Whether the shadow ray from pixel i to the light sample is blocked.
-bool di_occluded(const SceneView& view, const GBuffer& g, size_t pixel, const LightSample& light);
 
 // The light sample (light and uniforms) that LightList::sample maps to barycentric point b of triangle
 // light `light`: the inverse of its uniform triangle mapping.
@@ -131,7 +129,8 @@ struct DiVisibilityReuse {
 // f L_e G W of each pixel's sample, with the exact surface, into `sum`, plus, with `unsampled`, the
 // emission seen and the unsampled light (ReSTIR GI passes none: emission seen is direct light); writes
 // each pixel's verdict to `visibility`; a pixel whose estimate is not finite adds nothing and is counted
-// in `non_finite`. One shadow ray per pixel with a sample, except where a verdict is reused.
+// in `non_finite`. One shadow ray per pixel with a sample (in packets of 16), except where a verdict is
+// reused.
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
               const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
               Image& sum, RayCounter& rays, Counter& non_finite);
