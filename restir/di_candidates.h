@@ -24,7 +24,14 @@ struct DiCandidateBatch {
   } slot[kLaneSlots];
   std::vector<DiSample> sample;   // [k * kLaneSlots + slot]
   std::vector<float> p_light, u;  // light-sampling area density (0: no light chosen), resampling uniform
-  void resize(int light_candidates);
+  // BSDF candidate k of each slot: its direction sample (pdf 0: none, no ray), resampling uniform and hit.
+  struct BsdfCandidate {
+    BsdfSample sample;
+    float u = 0.0f;
+    Hit hit;
+  };
+  std::vector<BsdfCandidate> bsdf;  // [k * kLaneSlots + slot]
+  void resize(int light_candidates, int bsdf_candidates);
 };
 
 // Stage "di_candidates", part 1 (per pixel): the pixel's receivers, its M_l light candidates drawn from
@@ -70,8 +77,28 @@ inline float di_bsdf_area_pdf(const DiReceiver& receiver, const DiContribution& 
 // candidates of `slots` slots, one at a time through di_contribution.
 void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBatch& batch);
 
-// Part 3 (per pixel): the light candidates resampled with their evaluated targets, then M_b BSDF candidates
-// (one ray each), combined by the balance heuristic in area measure: each candidate x gets
+// Part 3 (per pixel): M_b BSDF directions sampled at the exact receiver (their rays are traced together
+// next, in packets).
+inline void draw_bsdf_candidates(const DiParams& params, int slot, DiCandidateBatch& batch) {
+  DiCandidateBatch::Slot& b = batch.slot[slot];
+  for (int k = 0; k < params.bsdf_candidates; ++k) {
+    DiCandidateBatch::BsdfCandidate& c = batch.bsdf[size_t(k) * kLaneSlots + size_t(slot)];
+    c.sample.pdf = 0.0f;
+    if (!b.hit) continue;
+    vec2 ub(b.rng.next_float(), b.rng.next_float());
+    float lobe = b.rng.next_float();
+    c.u = b.rng.next_float();
+    if (!b.receiver.bsdf.sample(b.receiver.wo, ub, lobe, c.sample) ||
+        glm::dot(c.sample.wi, b.receiver.geometric_normal) <= 0.0f)
+      c.sample.pdf = 0.0f;
+  }
+}
+
+// Part 4: the BSDF candidates' rays of `slots` slots, 16 at a time (rtcIntersect16). Returns the rays traced.
+uint64_t trace_bsdf_candidates(const SceneView& view, const DiParams& params, int slots, DiCandidateBatch& batch);
+
+// Part 5 (per pixel): the light candidates resampled with their evaluated targets, then the BSDF
+// candidates with their hits, combined by the balance heuristic in area measure: each candidate x gets
 // w = p_hat(x) / (M_l p_light(x) + M_b p_bsdf(x)) (Talbot et al. 2005; Bitterli et al. 2020, sec. 3).
 // Light no light technique can sample (the environment, emitters below the light list's threshold)
 // reaches the pixel only through the BSDF candidates: their plain estimate of it goes to `unsampled`.
@@ -96,14 +123,11 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiPa
     r.update(s, p_hat / (M_l * batch.p_light[at] + M_b * p_bsdf), p_hat, batch.u[at]);
   }
   const DiReceiver& receiver = b.receiver;
-  uint64_t traced = 0;
   for (int k = 0; k < params.bsdf_candidates; ++k) {
-    BsdfSample bs;
-    vec2 ub(b.rng.next_float(), b.rng.next_float());
-    float lobe = b.rng.next_float(), u = b.rng.next_float();
-    if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f) continue;
-    ++traced;
-    Hit hit = view.tracer.intersect(view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi));
+    const DiCandidateBatch::BsdfCandidate& candidate = batch.bsdf[size_t(k) * kLaneSlots + size_t(slot)];
+    const BsdfSample& bs = candidate.sample;
+    if (bs.pdf <= 0.0f) continue;
+    const Hit& hit = candidate.hit;
     int64_t light = hit.valid() ? view.lights.light_index(hit.instance, hit.prim) : -1;
     if (light < 0) {
       vec3 L = !hit.valid() ? view.lights.environment()
@@ -118,21 +142,22 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiPa
     float p_hat = di_target(c);
     if (p_hat <= 0.0f) continue;
     float p_light = sampler.pmf(b.ctx, uint32_t(light)) * di_area_pdf(view.lights, uint32_t(light));
-    r.update(s, p_hat / (M_l * p_light + M_b * di_bsdf_area_pdf(receiver, c, params.bsdf_candidates)), p_hat, u);
+    r.update(s, p_hat / (M_l * p_light + M_b * di_bsdf_area_pdf(receiver, c, params.bsdf_candidates)), p_hat, candidate.u);
   }
   r.M = M_l + M_b;
   r.finalize();
-  if (!params.candidate_visibility || r.W <= 0.0f) return traced;
+  if (!params.candidate_visibility || r.W <= 0.0f) return 0;
   if (view.tracer.occluded(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal,
                                       di_contribution(receiver, r.y).light)))
     r.W = 0.0f;
-  return traced + 1;
+  return 1;
 }
 
 // Stage "di_candidates": reads the G-buffer (BSDF sampling and densities: the exact surface) and the
 // packed surfaces (targets), writes one reservoir per pixel and the light only BSDF candidates reach
 // (`unsampled`; zero without them). Cost per pixel: M_l light samples and target evaluations (in lanes
-// with params.simd), M_b BSDF samples, evaluations and rays, plus one shadow ray with candidate_visibility.
+// with params.simd), M_b BSDF samples, evaluations and rays (in packets), plus one shadow ray with
+// candidate_visibility.
 template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
                            const DiParams& params, int frame, std::vector<DiReservoir>& out, std::vector<vec3>& unsampled,
@@ -141,7 +166,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
   unsampled.assign(g.size(), vec3(0.0f));
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     thread_local DiCandidateBatch batch;
-    batch.resize(params.light_candidates);
+    batch.resize(params.light_candidates, params.bsdf_candidates);
     const int slots = tile.x1 - tile.x0;
     uint64_t traced = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
@@ -151,6 +176,8 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
         evaluate_candidate_lanes(batch.lanes, batch.planes.data(), params.light_candidates, slots, params.bsdf_candidates > 0);
       else
         evaluate_candidates_scalar(params, slots, batch);
+      for (int s = 0; s < slots; ++s) draw_bsdf_candidates(params, s, batch);
+      traced += trace_bsdf_candidates(view, params, slots, batch);
       for (int s = 0; s < slots; ++s)
         traced += resample_candidates(view, sampler, params, s, batch, out[row + s], unsampled[row + s]);
     }

@@ -34,7 +34,7 @@ TEST(TargetLanes, KernelGivesTheScalarBitsOnRandomInputs) {
   ASSERT_GT(lights.triangle_count(), 0u);
   constexpr int kCandidates = 8;
   auto lanes = std::make_unique<DiCandidateBatch>(), scalar = std::make_unique<DiCandidateBatch>();
-  lanes->resize(kCandidates);
+  lanes->resize(kCandidates, 0);
   Rng rng(12345, 1);
   int compared = 0, positive = 0, batches = 0;
   std::string targets;
