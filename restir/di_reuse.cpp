@@ -238,15 +238,33 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   out = in;
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
   // Pairwise MIS with visibility asks every neighbour whether its own sample is visible from it: asked
-  // here once per pixel (one shadow ray each) instead of once per pixel and neighbour.
+  // here once per pixel (one shadow ray each, 16 at a time in pixel order) instead of once per pixel and
+  // neighbour.
   std::vector<int8_t> own_visible;
   if (params.mis_visibility && params.bias == DiBiasCorrection::Pairwise) {
     own_visible.assign(in.size(), -1);
-    for_each_pixel(width, height, rays, [&](size_t j, int, int) -> uint64_t {
-      if (!surfaces[j].hit() || in[j].W <= 0.0f || in[j].p_hat_y <= 0.0f) return 0;
-      const PlacedSample y{in[j].y, &current.lights, in[j].y, &current.lights};
-      own_visible[j] = occluded_from(view, di_receiver(current, j), y) ? 0 : 1;
-      return 1;
+    for_each_tile(width, height, [&](const Tile& tile) {
+      RayPacket16 packet;
+      size_t pixel[16];
+      int lanes = 0;
+      auto flush = [&] {
+        for (int k = lanes; k < 16; ++k) packet.set_inactive(k);
+        view.tracer.occluded16(packet);
+        for (int k = 0; k < lanes; ++k) own_visible[pixel[k]] = Tracer::occluded_lane(packet, k) ? 0 : 1;
+        rays.add(uint64_t(lanes));
+        lanes = 0;
+      };
+      for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x) {
+          const size_t j = size_t(y) * size_t(width) + size_t(x);
+          if (!surfaces[j].hit() || in[j].W <= 0.0f || in[j].p_hat_y <= 0.0f) continue;
+          const DiReceiver receiver = di_receiver(current, j);
+          const LightSample ls = di_contribution(receiver, in[j].y).light;
+          packet.set(lanes, shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, ls));
+          pixel[lanes++] = j;
+          if (lanes == 16) flush();
+        }
+      if (lanes > 0) flush();
     });
   }
   // Neighbours: uniform points in the disk of the given radius, by rejection from the square (no
