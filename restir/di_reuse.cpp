@@ -40,9 +40,30 @@ bool occluded_from(const SceneView& view, const DiReceiver& receiver, const Plac
   return view.tracer.occluded(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, ls));
 }
 
+// The inputs' pixels as receivers, each built on first use: the weights need a neighbour's receiver only
+// where they evaluate its target (pairwise MIS: only when the combining pixel has a sample of its own).
+// Storage is per thread: constructing an array of 32 receivers per pixel cost more than using them.
+class Receivers {
+ public:
+  Receivers(const DiReuseInput* inputs, int count) : inputs_(inputs) {
+    thread_local std::vector<DiReceiver> storage(32);
+    receivers_ = storage.data();
+    std::fill(built_, built_ + count, false);
+  }
+  const DiReceiver& operator[](int z) {
+    if (!built_[z]) receivers_[z] = di_receiver(*inputs_[z].domain, inputs_[z].pixel), built_[z] = true;
+    return receivers_[z];
+  }
+
+ private:
+  const DiReuseInput* inputs_;
+  DiReceiver* receivers_;
+  bool built_[32];
+};
+
 // p_z(y): input z's target at sample y of input `source`, as the MIS weights use it. The combining
 // pixel's value (z = 0) is known already, and so is the source's own: the one its reservoir stored.
-float input_target(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int z, int source,
+float input_target(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int z, int source,
                    const PlacedSample& y, float p_hat_here) {
   if (z == 0) return p_hat_here;
   if (z == source) return inputs[source].reservoir->p_hat_y;
@@ -51,7 +72,7 @@ float input_target(const SceneView& view, const DiReuseInput* inputs, const DiRe
 
 // Whether y is visible from input z's surface: the spatial pass's answer for a source's own sample when
 // it has one, otherwise one shadow ray (counted in `rays`).
-bool input_sees(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int z, int source,
+bool input_sees(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int z, int source,
                 const PlacedSample& y, uint64_t& rays) {
   if (z == source && inputs[z].own_visible >= 0) return inputs[z].own_visible == 1;
   ++rays;
@@ -62,7 +83,7 @@ bool input_sees(const SceneView& view, const DiReuseInput* inputs, const DiRecei
 // sample of input `source`. Evaluates every input's target, with `visibility` times the visibility of y
 // from each input's surface (Bitterli et al. 2020, sec. 4.3: unbiased also when reservoirs were
 // visibility-tested), tracing up to `count` rays.
-float basic_weight(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int count, int source,
+float basic_weight(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int count, int source,
                    int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   float numerator = 0.0f, denominator = 0.0f;
   for (int z = 0; z < count; ++z) {
@@ -89,7 +110,7 @@ float basic_weight(const SceneView& view, const DiReuseInput* inputs, const DiRe
 // they did darkened the image; using V_i in one formula only made the weights of a sample sum to more
 // than one, which temporal reuse amplified without bound (measured). p_c needs no visibility: where y is
 // occluded from the canonical pixel, it shades to zero whatever its weight.
-float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int count,
+float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int count,
                       int source, int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   const int n = count - 1;
   if (n == 0) return 1.0f;
@@ -112,7 +133,7 @@ float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, const D
 
 // The weight m_role(y) of params.bias for the sample y of input `source`, placed for input 0 (where
 // input 0's target is p_hat_here).
-float mis_weight(const SceneView& view, const DiReuseInput* inputs, const DiReceiver* receivers, int count, int source,
+float mis_weight(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int count, int source,
                  int role, const PlacedSample& y, float p_hat_here, const DiReuseParams& params, uint64_t& rays) {
   switch (params.bias) {
     case DiBiasCorrection::None: {
@@ -156,12 +177,7 @@ float reconnection_jacobian(const LightPoint& sample, const vec3& here, const ve
 DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count, const DiReuseParams& params, Rng& rng,
                     uint64_t& rays) {
   DiReservoir out;
-  // Every input's pixel as a receiver, built once (the MIS weights evaluate other inputs' targets), in
-  // a per-thread buffer: constructing a fixed array of 32 receivers per pixel cost more than using them.
-  thread_local std::vector<DiReceiver> receivers;
-  receivers.clear();
-  const int built = params.bias == DiBiasCorrection::None ? 1 : count;
-  for (int z = 0; z < built; ++z) receivers.push_back(di_receiver(*inputs[z].domain, inputs[z].pixel));
+  Receivers receivers(inputs, count);
   const LightList* here_lights = receivers[0].lights;
   for (int k = 0; k < count; ++k) {
     const DiReuseInput& in = inputs[k];
@@ -175,7 +191,7 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
     const DiSample here = placed_for_combiner(view, in, here_lights);
     const PlacedSample y{own, &in.domain->lights, here, here_lights};
     float p_hat_here = k == 0 ? in.reservoir->p_hat_y : di_target(di_contribution(receivers[0], here));
-    float m = mis_weight(view, inputs, receivers.data(), count, k, k, y, p_hat_here, params, rays);
+    float m = mis_weight(view, inputs, receivers, count, k, k, y, p_hat_here, params, rays);
     out.update(here, m * p_hat_here * in.reservoir->W, p_hat_here, u);
   }
   out.finalize();
@@ -186,14 +202,13 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
 
 void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source, const DiReuseParams& params,
                     float* weights) {
-  std::vector<DiReceiver> receivers;
-  for (int z = 0; z < count; ++z) receivers.push_back(di_receiver(*inputs[z].domain, inputs[z].pixel));
+  Receivers receivers(inputs, count);
   const DiSample here = placed_for_combiner(view, inputs[source], receivers[0].lights);
   const PlacedSample y{inputs[source].reservoir->y, &inputs[source].domain->lights, here, receivers[0].lights};
   const float p_hat_here = source == 0 ? inputs[0].reservoir->p_hat_y : di_target(di_contribution(receivers[0], here));
   uint64_t rays = 0;
   for (int role = 0; role < count; ++role)
-    weights[role] = mis_weight(view, inputs, receivers.data(), count, source, role, y, p_hat_here, params, rays);
+    weights[role] = mis_weight(view, inputs, receivers, count, source, role, y, p_hat_here, params, rays);
 }
 
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
