@@ -1,7 +1,7 @@
 #pragma once
-// ReSTIR DI, the per-pixel stages (Bitterli et al. 2020, section 3 and Alg. 3): resampled importance
-// sampling of light samples into a reservoir, then shading with one shadow ray (the reuse stages between
-// them are in di_reuse.h). Samples live in the lights' area measure (a light index and the two uniforms
+// ReSTIR DI (Bitterli et al. 2020, section 3 and Alg. 3): its samples, receivers and target function, and
+// shading with one shadow ray (the candidate stage that fills the reservoirs is in di_candidates.h, the
+// reuse stages between it and shading in di_reuse.h). Samples live in the lights' area measure (a light index and the two uniforms
 // that place the point on it), so that a reservoir's contribution weight W stays valid when the sample is
 // reused at another pixel or frame; light indices are stable for a scene's lifetime (LightList keeps one
 // per emitting triangle of each instance and per punctual light), so a sample's identity needs no remap
