@@ -206,6 +206,12 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
       ->check(CLI::IsMember(keys_of(method_names())))->capture_default_str();
   cmd->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
+  cmd->add_option("--di-light-tiles", r.settings.di.light_tiles,
+                  "restir-di: draw light candidates from this many presampled light tiles per frame, 16x16-pixel "
+                  "blocks sharing one (0 = off; power and uniform light samplers only, ignored with tree)")
+      ->check(CLI::Range(0, 4096))->capture_default_str();
+  cmd->add_option("--di-light-tile-size", r.settings.di.light_tile_size, "restir-di: light samples per light tile")
+      ->check(CLI::Range(1, 1 << 16))->capture_default_str();
   cmd->add_option("--di-bsdf-candidates", r.settings.di.bsdf_candidates,
                      "restir-di: BSDF-sampled candidates per pixel (M_b; one ray each)")
       ->check(CLI::Range(0, 64))->capture_default_str();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "restir/di.h"
+#include "restir/light_tiles.h"
 #include "restir/target_lanes.h"
 
 namespace candela {
@@ -35,10 +36,12 @@ struct DiCandidateBatch {
 };
 
 // Stage "di_candidates", part 1 (per pixel): the pixel's receivers, its M_l light candidates drawn from
-// the sampler and placed on their lights, into the batch's slot and lanes.
+// the sampler and placed on their lights (or read from the pixel's light tile, when `tile` is given: one
+// uniform entry each), into the batch's slot and lanes.
 template <LightSampler S>
 void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                           const DiParams& params, int frame, size_t i, int slot, DiCandidateBatch& batch) {
+                           const DiParams& params, int frame, size_t i, int slot, const LightTileEntry* tile,
+                           DiCandidateBatch& batch) {
   DiCandidateBatch::Slot& b = batch.slot[slot];
   b.hit = g.hit(i);
   for (int k = 0; k < params.light_candidates; ++k) batch.planes[size_t(k)].clear(slot);
@@ -54,6 +57,16 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
                   b.receiver.bsdf.wo_terms(b.receiver.wo));
   for (int k = 0; k < params.light_candidates; ++k) {
     const size_t at = size_t(k) * kLaneSlots + size_t(slot);
+    if (tile) {
+      const int size = params.light_tile_size;
+      const LightTileEntry& entry = tile[std::min(int(b.rng.next_float() * float(size)), size - 1)];
+      batch.u[at] = b.rng.next_float();
+      batch.p_light[at] = entry.p_light;
+      if (entry.p_light <= 0.0f) continue;
+      batch.sample[at] = entry.sample;
+      if (entry.sample.light < view.lights.triangle_count()) batch.planes[size_t(k)].set(slot, entry.sample.point);
+      continue;
+    }
     SampledLight chosen = sampler.sample(b.ctx, vec2(b.rng.next_float(), b.rng.next_float()));
     vec2 uv(b.rng.next_float(), b.rng.next_float());
     batch.u[at] = b.rng.next_float();
@@ -155,13 +168,13 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiPa
 
 // Stage "di_candidates": reads the G-buffer (BSDF sampling and densities: the exact surface) and the
 // packed surfaces (targets), writes one reservoir per pixel and the light only BSDF candidates reach
-// (`unsampled`; zero without them). Cost per pixel: M_l light samples and target evaluations (in lanes
-// with params.simd), M_b BSDF samples, evaluations and rays (in packets), plus one shadow ray with
-// candidate_visibility.
+// (`unsampled`; zero without them). Cost per pixel: M_l light samples (or tile reads, with `tiles`) and
+// target evaluations (in lanes with params.simd), M_b BSDF samples, evaluations and rays (in packets),
+// plus one shadow ray with candidate_visibility.
 template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
                            const DiParams& params, int frame, std::vector<DiReservoir>& out, std::vector<vec3>& unsampled,
-                           RayCounter& rays) {
+                           RayCounter& rays, const LightTiles* tiles = nullptr) {
   out.assign(g.size(), DiReservoir{});
   unsampled.assign(g.size(), vec3(0.0f));
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
@@ -171,7 +184,10 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
     uint64_t traced = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t row = size_t(y) * size_t(g.width) + size_t(tile.x0);
-      for (int s = 0; s < slots; ++s) draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, batch);
+      for (int s = 0; s < slots; ++s) {
+        const LightTileEntry* light_tile = tiles && !tiles->empty() ? tiles->tile(tile.x0 + s, y, frame) : nullptr;
+        draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, light_tile, batch);
+      }
       if (params.simd)
         evaluate_candidate_lanes(batch.lanes, batch.planes.data(), params.light_candidates, slots, params.bsdf_candidates > 0);
       else

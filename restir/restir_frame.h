@@ -77,6 +77,7 @@ class Restir {
   ReservoirChain di_, gi_;
   std::vector<DiSurface> surfaces_, prev_surfaces_;  // packed G-buffer surfaces of this and last frame
   std::vector<vec3> unsampled_;  // light only BSDF candidates reach (environment, unlisted emitters)
+  LightTiles light_tiles_;       // presampled light tiles of this pass (with DiParams::light_tiles)
 };
 
 template <LightSampler S>
@@ -88,9 +89,17 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
   if (!settings_.with_gi || !settings_.gi_only) {
     DiParams params = settings_.di;
     params.seed = settings_.seed;
+    const LightTiles* tiles = nullptr;
+    if constexpr (kContextFreeSampler<S>) {
+      if (params.light_tiles > 0) {
+        StageTimer timer(stats, "di_light_tiles");
+        light_tiles_.build(view, sampler, params.light_tiles, params.light_tile_size, params.seed, key);
+        tiles = &light_tiles_;
+      }
+    }
     {
       StageTimer timer(stats, "di_candidates");
-      di_initial_candidates(view, sampler, g, current, params, key, di_.initial, unsampled_, timer.rays());
+      di_initial_candidates(view, sampler, g, current, params, key, di_.initial, unsampled_, timer.rays(), tiles);
     }
     DiReuseParams reuse = settings_.di_reuse;
     reuse.seed = settings_.seed;
