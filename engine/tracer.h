@@ -93,4 +93,43 @@ class Tracer {
   float epsilon_ = 1e-5f;
 };
 
+// Rays that neighbouring pixels trace independently (shadow rays, BSDF rays), traced 16 at a time in the
+// order they are queued: add() queues a ray with a tag saying what its answer is for; every 16th add, and
+// finish(), traces the packet (occlusion or closest hit) and calls answer(tag, packet, lane) for each of
+// its rays in queue order (read the lane with Tracer::occluded_lane or Tracer::packet_hit).
+enum class RayQuery { Occluded, Intersect };
+template <class Tag, class Answer>
+class RayQueue16 {
+ public:
+  RayQueue16(const Tracer& tracer, RayQuery query, Answer answer) : tracer_(tracer), query_(query), answer_(answer) {}
+  void add(const Ray& ray, const Tag& tag) {
+    packet_.set(lanes_, ray);
+    tags_[lanes_++] = tag;
+    if (lanes_ == 16) finish();
+  }
+  void finish() {
+    if (lanes_ == 0) return;
+    for (int k = lanes_; k < 16; ++k) packet_.set_inactive(k);
+    if (query_ == RayQuery::Occluded) tracer_.occluded16(packet_);
+    else tracer_.intersect16(packet_, false);
+    for (int k = 0; k < lanes_; ++k) answer_(tags_[k], packet_, k);
+    traced_ += uint64_t(lanes_);
+    lanes_ = 0;
+  }
+  uint64_t traced() const { return traced_; }  // rays traced so far
+
+ private:
+  const Tracer& tracer_;
+  RayQuery query_;
+  Answer answer_;
+  RayPacket16 packet_;
+  Tag tags_[16];
+  int lanes_ = 0;
+  uint64_t traced_ = 0;
+};
+template <class Tag, class Answer>
+RayQueue16<Tag, Answer> ray_queue16(const Tracer& tracer, RayQuery query, Answer answer) {
+  return RayQueue16<Tag, Answer>(tracer, query, answer);
+}
+
 }  // namespace candela

@@ -32,24 +32,16 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
   // Shadow rays go out 16 at a time in pixel order (rtcOccluded16): neighbouring pixels' rays towards
   // nearby lights share much of their traversal.
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
-    RayPacket16 packet;
     struct Pending {
       size_t pixel;
       vec3 L, lit;  // the pixel's light without its sample, and what the sample adds if visible
-    } pending[16];
-    int lanes = 0;
-    uint64_t traced = 0;
-    auto flush = [&] {
-      for (int k = lanes; k < 16; ++k) packet.set_inactive(k);
-      view.tracer.occluded16(packet);
-      for (int k = 0; k < lanes; ++k) {
-        const bool visible = !Tracer::occluded_lane(packet, k);
-        visibility[pending[k].pixel].visible = visible;
-        finish(pending[k].pixel, visible ? pending[k].L + pending[k].lit : pending[k].L);
-      }
-      traced += uint64_t(lanes);
-      lanes = 0;
     };
+    auto answer = [&](const Pending& p, const RayPacket16& packet, int lane) {
+      const bool visible = !Tracer::occluded_lane(packet, lane);
+      visibility[p.pixel].visible = visible;
+      finish(p.pixel, visible ? p.L + p.lit : p.L);
+    };
+    auto queue = ray_queue16<Pending>(view.tracer, RayQuery::Occluded, answer);
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
         const size_t i = size_t(y) * size_t(g.width) + size_t(x);
@@ -63,9 +55,7 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
             int32_t j = reusing ? (*reuse.history_pixel)[i] : -1;
             const DiVisibility* old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
             if (!(old && old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv)) {
-              packet.set(lanes, shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], c.light));
-              pending[lanes++] = {i, L, c.value * r.W};
-              if (lanes == 16) flush();
+              queue.add(shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], c.light), {i, L, c.value * r.W});
               continue;
             }
             v.visible = old->visible;
@@ -75,8 +65,8 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         }
         finish(i, L);
       }
-    if (lanes > 0) flush();
-    rays.add(traced);
+    queue.finish();
+    rays.add(queue.traced());
   });
 }
 

@@ -1,11 +1,12 @@
 #pragma once
 // ReSTIR DI (Bitterli et al. 2020, section 3 and Alg. 3): its samples, receivers and target function, and
 // shading with one shadow ray (the candidate stage that fills the reservoirs is in di_candidates.h, the
-// reuse stages between it and shading in di_reuse.h). Samples live in the lights' area measure (a light index and the two uniforms
-// that place the point on it), so that a reservoir's contribution weight W stays valid when the sample is
-// reused at another pixel or frame; light indices are stable for a scene's lifetime (LightList keeps one
-// per emitting triangle of each instance and per punctual light), so a sample's identity needs no remap
-// between frames, and a light that moved, dimmed or went dark is simply re-evaluated where it is now.
+// reuse stages between it and shading in di_reuse.h). Samples live in the lights' area measure (a light
+// index and the two uniforms that place the point on it), so that a reservoir's contribution weight W
+// stays valid when the sample is reused at another pixel or frame; light indices are stable for a scene's
+// lifetime (LightList keeps one per emitting triangle of each instance and per punctual light), so a
+// sample's identity needs no remap between frames, and a light that moved, dimmed or went dark is simply
+// re-evaluated where it is now.
 #include <vector>
 
 #include "engine/gbuffer.h"
@@ -95,7 +96,6 @@ DiContribution di_contribution(const DiReceiver& receiver, const DiSample& s);
 
 // Target function p_hat: luminance of the unshadowed contribution.
 inline float di_target(const DiContribution& c) { return luminance(c.value); }
-
 
 // The light sample (light and uniforms) that LightList::sample maps to barycentric point b of triangle
 // light `light`: the inverse of its uniform triangle mapping.

@@ -12,28 +12,20 @@ void DiCandidateBatch::resize(int light_candidates, int bsdf_candidates) {
 }
 
 uint64_t trace_bsdf_candidates(const SceneView& view, const DiParams& params, int slots, DiCandidateBatch& batch) {
-  RayPacket16 packet;
-  DiCandidateBatch::BsdfCandidate* lane[16];
-  int lanes = 0;
-  uint64_t traced = 0;
-  auto flush = [&] {
-    for (int k = lanes; k < 16; ++k) packet.set_inactive(k);
-    view.tracer.intersect16(packet, false);
-    for (int k = 0; k < lanes; ++k) lane[k]->hit = view.tracer.packet_hit(packet, k);
-    traced += uint64_t(lanes);
-    lanes = 0;
+  using Candidate = DiCandidateBatch::BsdfCandidate;
+  auto answer = [&](Candidate* c, const RayPacket16& packet, int lane) {
+    c->hit = view.tracer.packet_hit(packet, lane);
   };
+  auto queue = ray_queue16<Candidate*>(view.tracer, RayQuery::Intersect, answer);
   for (int k = 0; k < params.bsdf_candidates; ++k)
     for (int s = 0; s < slots; ++s) {
-      DiCandidateBatch::BsdfCandidate& c = batch.bsdf[size_t(k) * kLaneSlots + size_t(s)];
+      Candidate& c = batch.bsdf[size_t(k) * kLaneSlots + size_t(s)];
       if (c.sample.pdf <= 0.0f) continue;
       const DiReceiver& r = batch.slot[s].receiver;
-      packet.set(lanes, view.tracer.spawn_ray(r.position, r.geometric_normal, c.sample.wi));
-      lane[lanes++] = &c;
-      if (lanes == 16) flush();
+      queue.add(view.tracer.spawn_ray(r.position, r.geometric_normal, c.sample.wi), &c);
     }
-  if (lanes > 0) flush();
-  return traced;
+  queue.finish();
+  return queue.traced();
 }
 
 void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBatch& batch) {

@@ -259,27 +259,20 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   if (params.mis_visibility && params.bias == DiBiasCorrection::Pairwise) {
     own_visible.assign(in.size(), -1);
     for_each_tile(width, height, [&](const Tile& tile) {
-      RayPacket16 packet;
-      size_t pixel[16];
-      int lanes = 0;
-      auto flush = [&] {
-        for (int k = lanes; k < 16; ++k) packet.set_inactive(k);
-        view.tracer.occluded16(packet);
-        for (int k = 0; k < lanes; ++k) own_visible[pixel[k]] = Tracer::occluded_lane(packet, k) ? 0 : 1;
-        rays.add(uint64_t(lanes));
-        lanes = 0;
+      auto answer = [&](size_t j, const RayPacket16& packet, int lane) {
+        own_visible[j] = Tracer::occluded_lane(packet, lane) ? 0 : 1;
       };
+      auto queue = ray_queue16<size_t>(view.tracer, RayQuery::Occluded, answer);
       for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
           const size_t j = size_t(y) * size_t(width) + size_t(x);
           if (!surfaces[j].hit() || in[j].W <= 0.0f || in[j].p_hat_y <= 0.0f) continue;
           const DiReceiver receiver = di_receiver(current, j);
           const LightSample ls = di_contribution(receiver, in[j].y).light;
-          packet.set(lanes, shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, ls));
-          pixel[lanes++] = j;
-          if (lanes == 16) flush();
+          queue.add(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, ls), j);
         }
-      if (lanes > 0) flush();
+      queue.finish();
+      rays.add(queue.traced());
     });
   }
   // Neighbours: uniform points in the disk of the given radius, by rejection from the square (no
