@@ -4,6 +4,7 @@
 # and the checked builds, each in its own directory (README, "Robustness"):
 #   make test-sanitize  AddressSanitizer + UndefinedBehaviorSanitizer: unit and command-line tests (CI)
 #   make test-tsan      ThreadSanitizer: a few frames of every method and denoiser (CI)
+#   make test-farm      the Slurm job array on a one-node cluster started for the test (CI; docs/farm.md)
 #   make fuzz           libFuzzer (clang): the glTF loader and the shot-script reader, FUZZ_SECONDS each
 BUILD ?= build
 JOBS ?= 2
@@ -20,7 +21,7 @@ SANITIZE_EXCLUDE ?= ^(Convergence\.|Unbiased\.|ViewerHeadless\.|cli\.view_)
 SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1 \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 
-.PHONY: deps configure build run test bench clean test-sanitize test-tsan fuzz
+.PHONY: deps configure build run test bench clean test-sanitize test-tsan test-farm fuzz
 
 deps:
 	@bash tools/install_deps.sh
@@ -54,6 +55,10 @@ test-tsan: deps
 	@cmake -S . -B $(TSAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DCANDELA_SANITIZE=thread -DBUILD_TESTING=OFF > /dev/null
 	@cmake --build $(TSAN_BUILD) -j $(JOBS) --target candela
 	@bash tools/tsan_frames.sh $(TSAN_BUILD)/candela
+
+test-farm: build
+	@bash tools/install_deps.sh slurmctld slurmd slurm-client munge
+	@bash tests/slurm/farm_test.sh $(BUILD)/candela $(BUILD)/farm
 
 fuzz: deps
 	@bash tools/install_deps.sh clang-14 libclang-rt-14-dev
