@@ -160,19 +160,6 @@ void evaluate_candidate_lanes(const ReceiverLanes& receivers, CandidateLanes* ca
   HWY_DYNAMIC_DISPATCH(EvaluateCandidateLanes)(receivers, candidates, count, slots, with_bsdf_pdf);
 }
 
-const char* candidate_lanes_target() {
-  // The target the dispatch table chose: the best one both compiled and supported.
-  return hwy::TargetName(hwy::SupportedAndGeneratedTargets().front());
-}
-
-void for_each_candidate_lanes_target(const std::function<void(const char* name)>& fn) {
-  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
-    hwy::SetSupportedTargetsForTest(target);
-    fn(hwy::TargetName(target));
-  }
-  hwy::SetSupportedTargetsForTest(0);
-}
-
 void ReceiverLanes::BsdfPlanes::set(int s, const BsdfWoTerms& t) {
   nx[s] = t.n.x, ny[s] = t.n.y, nz[s] = t.n.z;
   cos_o[s] = t.cos_o, alpha[s] = t.alpha, s_o[s] = t.s_o, f90[s] = t.f90, ms_o[s] = t.ms_o, d_f90[s] = t.d_f90;

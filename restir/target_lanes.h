@@ -58,11 +58,6 @@ struct CandidateLanes {
 // and 8 table gathers, in lanes.
 void evaluate_candidate_lanes(const ReceiverLanes& receivers, CandidateLanes* candidates, int count, int slots,
                               bool with_bsdf_pdf);
-
-// The name of the instruction set the kernel runs with on this CPU (for bench output).
-const char* candidate_lanes_target();
-// Calls fn once per instruction set that both this CPU supports and the kernel was compiled for (AVX-512,
-// AVX2, SSE4, ...), with the kernel dispatched to it meanwhile (tests: every code path on one machine).
-void for_each_candidate_lanes_target(const std::function<void(const char* name)>& fn);
+// (engine/simd_targets.h names the instruction set it runs with and lets tests run every one.)
 
 }  // namespace candela

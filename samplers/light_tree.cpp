@@ -11,9 +11,16 @@ namespace candela {
 namespace {
 
 constexpr int kBuckets = 12;
-constexpr int kMaxDepth = 63;  // the bit trail is a uint64_t
-constexpr uint32_t kNoLeaf = 0xffffffffu;
+constexpr int kMaxDepth = 64;  // levels of the binary tree, and so at most those of the wide one
+constexpr uint32_t kNoSlot = 0xffffffffu;
 constexpr size_t kParallelGrain = 4096;  // subtrees smaller than this are built / refitted serially
+
+// A light as the build sees it.
+struct Entry {
+  uint32_t light;
+  LightBounds bounds;
+  Bounds3 box;
+};
 
 // A 48-bit uniform from two 24-bit ones, so that many successive binary choices keep their precision.
 double wide_uniform(vec2 u) { return double(u.x) + double(u.y) * 0x1p-24; }
@@ -52,7 +59,6 @@ struct BoundsAccumulator {
 
 // Exact bounds of entries [first, last): sphere around their box, and the cone spread measured from the
 // mean axis over every member.
-template <class Entry>
 LightBounds bounds_of(const BoundsAccumulator& acc, const Entry* first, const Entry* last) {
   LightBounds out;
   out.center = acc.box.center();
@@ -78,54 +84,28 @@ float saoh_cost(const BoundsAccumulator& a, float regularization) {
 
 }  // namespace
 
-InfiniteLightChoice::InfiniteLightChoice(std::vector<uint32_t> indices, bool has_finite) : indices_(std::move(indices)) {
-  std::sort(indices_.begin(), indices_.end());
-  if (!indices_.empty()) probability_ = has_finite ? float(indices_.size()) / float(indices_.size() + 1) : 1.0f;
-}
+namespace light_tree_detail {
+struct BinaryNode {
+  LightBounds bounds;
+  uint32_t index = 0;  // leaf: light index; interior: the second child (the first is the next node)
+  bool leaf = false;
+};
+}  // namespace light_tree_detail
 
-bool InfiniteLightChoice::choose(double& u, SampledLight& out) const {
-  if (u < probability_) {
-    size_t k = std::min(size_t(u / probability_ * double(indices_.size())), indices_.size() - 1);
-    out = {indices_[k], pmf_each()};
-    return true;
-  }
-  u = std::min((u - probability_) / (1.0 - probability_), 1.0 - 0x1p-53);
-  return false;
-}
-
-LightTreeSampler::LightTreeSampler(const LightList& lights) {
-  std::vector<Entry> entries;
-  std::vector<uint32_t> infinite;
-  trail_.assign(lights.size(), 0);
-  leaf_of_.assign(lights.size(), kNoLeaf);
-  for (uint32_t i = 0; i < lights.size(); ++i) {
-    if (is_infinite_light(lights, i)) { infinite.push_back(i); continue; }
-    Bounds3 box;
-    LightBounds b = light_bounds(lights, i, &box);
-    if (b.phi > 0.0f) entries.push_back({i, b, box});
-  }
-  infinite_ = InfiniteLightChoice(std::move(infinite), !entries.empty());
-  if (!entries.empty()) {
-    nodes_.resize(2 * entries.size() - 1);
-    max_depth_ = build(entries, 0, entries.size(), 0, 0, 0);
-  }
-}
+namespace {
+using light_tree_detail::BinaryNode;
 
 // Builds the subtree over entries [begin, end) in depth-first order: the first child right after its
 // parent, the second after the first child's 2m - 1 nodes (m lights), which fixes every index in advance
-// so that subtrees build in parallel. Below depth 32 it always halves by count, so depth stays < 63.
-int LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t end, uint32_t node, uint64_t trail, int depth) {
+// so that subtrees build in parallel. Below depth 32 it always halves by count, so depth stays < 64.
+void build_binary(std::vector<BinaryNode>& nodes, std::vector<Entry>& entries, size_t begin, size_t end, uint32_t node, int depth) {
   if (end - begin == 1) {
-    nodes_[node].bounds = entries[begin].bounds;
-    nodes_[node].index = entries[begin].light;
-    nodes_[node].leaf = true;
-    trail_[entries[begin].light] = trail;
-    leaf_of_[entries[begin].light] = node;
-    return depth;
+    nodes[node] = {entries[begin].bounds, entries[begin].light, true};
+    return;
   }
   BoundsAccumulator all;
   for (size_t k = begin; k < end; ++k) all.add(entries[k].bounds, entries[k].box);
-  nodes_[node].bounds = bounds_of(all, &entries[begin], entries.data() + end);
+  nodes[node].bounds = bounds_of(all, &entries[begin], entries.data() + end);
 
   // Binned SAOH: the cheapest (axis, bucket boundary) over up to 12 buckets per axis of the centroid
   // box (no more buckets than lights: a small node has few distinct splits).
@@ -172,96 +152,183 @@ int LightTreeSampler::build(std::vector<Entry>& entries, size_t begin, size_t en
   }
   CHECK(depth < kMaxDepth);
   uint32_t second = node + 2 * uint32_t(mid - begin);
-  nodes_[node].index = second;
-  int depth_first = 0, depth_second = 0;
-  auto first = [&] { depth_first = build(entries, begin, mid, node + 1, trail, depth + 1); };
-  auto other = [&] { depth_second = build(entries, mid, end, second, trail | (uint64_t(1) << depth), depth + 1); };
+  nodes[node].index = second;
+  auto first = [&] { build_binary(nodes, entries, begin, mid, node + 1, depth + 1); };
+  auto other = [&] { build_binary(nodes, entries, mid, end, second, depth + 1); };
   if (end - begin > kParallelGrain) parallel_invoke(first, other);
   else { first(); other(); }
-  return std::max(depth_first, depth_second);
 }
 
-// A node's bounds are looser than its children's, so both children may have zero importance where the
-// parent had some: then the choice follows power (or is even), so that no path is a dead end and pmf
-// sums to 1.
-LightTreeSampler::ChildProbabilities LightTreeSampler::child_probabilities(const Node& node, const ShadingContext& ctx) const {
-  const Node& a = *(&node + 1);
-  const Node& b = nodes_[node.index];
-  // The next level reads one of these children's far child: fetch both while this level computes.
-  if (!a.leaf) __builtin_prefetch(&nodes_[a.index]);
-  if (!b.leaf) __builtin_prefetch(&nodes_[b.index]);
-  const LightBounds& first = a.bounds;
-  const LightBounds& second = b.bounds;
-  double i0 = first.importance(ctx.position, ctx.normal), i1 = second.importance(ctx.position, ctx.normal);
-  if (!(i0 + i1 > 0.0) || !std::isfinite(i0 + i1)) {
-    i0 = first.phi;
-    i1 = second.phi;
-    if (!(i0 + i1 > 0.0)) i0 = i1 = 1.0;
+
+}  // namespace
+
+InfiniteLightChoice::InfiniteLightChoice(std::vector<uint32_t> indices, bool has_finite) : indices_(std::move(indices)) {
+  std::sort(indices_.begin(), indices_.end());
+  if (!indices_.empty()) probability_ = has_finite ? float(indices_.size()) / float(indices_.size() + 1) : 1.0f;
+}
+
+bool InfiniteLightChoice::choose(double& u, SampledLight& out) const {
+  if (u < probability_) {
+    size_t k = std::min(size_t(u / probability_ * double(indices_.size())), indices_.size() - 1);
+    out = {indices_[k], pmf_each()};
+    return true;
   }
-  return {i0 / (i0 + i1), i1 / (i0 + i1)};
+  u = std::min((u - probability_) / (1.0 - probability_), 1.0 - 0x1p-53);
+  return false;
 }
 
-// Stochastic descent: at each interior node, a child with probability proportional to its importance;
-// the 48-bit uniform is rescaled into the chosen interval so that it serves the next level too.
+LightTreeSampler::LightTreeSampler(const LightList& lights) {
+  std::vector<Entry> entries;
+  std::vector<uint32_t> infinite;
+  slot_of_.assign(lights.size(), kNoSlot);
+  for (uint32_t i = 0; i < lights.size(); ++i) {
+    if (is_infinite_light(lights, i)) { infinite.push_back(i); continue; }
+    Bounds3 box;
+    LightBounds b = light_bounds(lights, i, &box);
+    if (b.phi > 0.0f) entries.push_back({i, b, box});
+  }
+  infinite_ = InfiniteLightChoice(std::move(infinite), !entries.empty());
+  if (entries.empty()) return;
+  std::vector<BinaryNode> binary(2 * entries.size() - 1);
+  build_binary(binary, entries, 0, entries.size(), 0, 0);
+  root_ = binary[0].bounds;
+  nodes_.reserve(entries.size() / 4 + 1);
+  collapse(binary, 0, uint32_t(binary.size()), kNoSlot, 0);
+}
+
+// The wide node over the binary subtree at `node`: its two children, then, again and again, the child with
+// the most lights opened into its two, until there are 8 (the collapse of a binary BVH into a wide one,
+// as in Wald, Benthin & Boulos 2008, "Getting rid of packets", here by light count so that the tree stays
+// shallow). Children keep the binary tree's order and exact bounds. Nodes are numbered depth first.
+uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up, int depth) {
+  struct Span {
+    uint32_t node, end;  // a binary subtree: nodes [node, end), (end - node + 1) / 2 lights
+  };
+  Span slots[kTreeWidth];
+  int count = 1;
+  slots[0] = {node, end};
+  auto open = [&](int k) {
+    Span s = slots[k];
+    for (int j = count; j > k + 1; --j) slots[j] = slots[j - 1];
+    slots[k] = {s.node + 1, binary[s.node].index};
+    slots[k + 1] = {binary[s.node].index, s.end};
+    ++count;
+  };
+  if (!binary[node].leaf) open(0);
+  while (count < kTreeWidth) {
+    int largest = -1;
+    for (int k = 0; k < count; ++k)
+      if (!binary[slots[k].node].leaf && (largest < 0 || slots[k].end - slots[k].node > slots[largest].end - slots[largest].node))
+        largest = k;
+    if (largest < 0) break;
+    open(largest);
+  }
+  CHECK(depth < kMaxDepth);
+  max_depth_ = std::max(max_depth_, depth + 1);
+  const uint32_t index = uint32_t(nodes_.size());
+  nodes_.emplace_back();
+  parent_.push_back(up);
+  nodes_[index].count = uint32_t(count);
+  nodes_[index].lights = (end - node + 1) / 2;
+  for (int k = 0; k < count; ++k) {
+    const BinaryNode& b = binary[slots[k].node];
+    nodes_[index].bounds.set(k, b.bounds);
+    const uint32_t ref = index * kTreeWidth + uint32_t(k);
+    uint32_t child = kLeaf | b.index;
+    if (b.leaf) slot_of_[b.index] = ref;
+    else child = collapse(binary, slots[k].node, slots[k].end, ref, depth + 1);
+    nodes_[index].child[k] = child;
+  }
+  return index;
+}
+
+void LightTreeSampler::child_weights(const Node& node, const ShadingContext& ctx, ChildWeights& out) const {
+  // The next level reads one of the interior children: fetch the first line of each while this one computes.
+  for (uint32_t k = 0; k < node.count; ++k)
+    if (!(node.child[k] & kLeaf)) __builtin_prefetch(&nodes_[node.child[k]]);
+  wide_importance(node.bounds, ctx.position, ctx.normal, out.weight);
+  auto accumulate = [&] {
+    double sum = 0.0;
+    for (uint32_t k = 0; k < node.count; ++k) out.cumulative[k] = sum += out.weight[k];
+    return sum;
+  };
+  out.sum = accumulate();
+  if (!(out.sum > 0.0 && std::isfinite(out.sum))) {
+    for (uint32_t k = 0; k < node.count; ++k) out.weight[k] = node.bounds.phi[k];
+    out.sum = accumulate();
+    if (!(out.sum > 0.0)) {
+      for (uint32_t k = 0; k < node.count; ++k) out.weight[k] = 1.0f;
+      out.sum = accumulate();
+    }
+  }
+  out.last = int(node.count) - 1;
+  while (out.weight[out.last] <= 0.0f) --out.last;
+}
+
+// Stochastic descent: at each node, a child with probability weight / sum (child_weights); the 48-bit
+// uniform is rescaled into the chosen child's interval so that it serves the next level too.
 SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const {
   double u = wide_uniform(u2);
   SampledLight chosen;
   if (infinite_.choose(u, chosen)) return chosen;
-  if (nodes_.empty() || nodes_[0].bounds.importance(ctx.position, ctx.normal) <= 0.0f) return {};
+  if (nodes_.empty() || root_.importance(ctx.position, ctx.normal) <= 0.0f) return {};
   float pmf = 1.0f - infinite_.probability();
-  const Node* node = &nodes_[0];
-  while (!node->leaf) {
-    ChildProbabilities p = child_probabilities(*node, ctx);
-    if (u < p.first) {
-      u /= p.first;
-      pmf *= float(p.first);
-      node = node + 1;
-    } else {
-      u = std::min((u - p.first) / p.second, 1.0 - 0x1p-53);
-      pmf *= float(p.second);
-      node = &nodes_[node->index];
-    }
+  for (uint32_t node = 0;;) {
+    const Node& n = nodes_[node];
+    ChildWeights w;
+    child_weights(n, ctx, w);
+    // The child whose share of [0, sum) holds u * sum, found without branches: k shares end at or before
+    // it. A child of weight 0 ends where the one before it does, so it is never chosen; the last child with
+    // weight takes what rounding leaves over.
+    const double t = u * w.sum;
+    int k = 0;
+    for (int j = 0; j < w.last; ++j) k += t >= w.cumulative[j];
+    u = std::min((t - (k > 0 ? w.cumulative[k - 1] : 0.0)) / w.weight[k], 1.0 - 0x1p-53);
+    pmf *= float(w.weight[k] / w.sum);
+    if (n.child[k] & kLeaf) return {n.child[k] & ~kLeaf, pmf};
+    node = n.child[k];
   }
-  return {node->index, pmf};
 }
 
-// Retraces the path to the light's leaf with its bit trail, multiplying the same probabilities.
+// The same probabilities along the path from the root to the light's slot (found from the slot up).
 float LightTreeSampler::pmf(const ShadingContext& ctx, uint32_t index) const {
-  if (leaf_of_[index] == kNoLeaf) return infinite_.contains(index) ? infinite_.pmf_each() : 0.0f;
-  if (nodes_[0].bounds.importance(ctx.position, ctx.normal) <= 0.0f) return 0.0f;
+  if (slot_of_[index] == kNoSlot) return infinite_.contains(index) ? infinite_.pmf_each() : 0.0f;
+  if (root_.importance(ctx.position, ctx.normal) <= 0.0f) return 0.0f;
+  uint32_t path[kMaxDepth];
+  int depth = 0;
+  for (uint32_t ref = slot_of_[index];; ref = parent_[ref / kTreeWidth]) {
+    path[depth++] = ref;
+    if (ref / kTreeWidth == 0) break;
+  }
   float pmf = 1.0f - infinite_.probability();
-  const Node* node = &nodes_[0];
-  uint64_t trail = trail_[index];
-  for (int depth = 0; !node->leaf; ++depth) {
-    ChildProbabilities p = child_probabilities(*node, ctx);
-    if (trail & (uint64_t(1) << depth)) {
-      pmf *= float(p.second);
-      node = &nodes_[node->index];
-    } else {
-      pmf *= float(p.first);
-      node = node + 1;
-    }
+  while (depth > 0) {
+    const uint32_t ref = path[--depth];
+    ChildWeights w;
+    child_weights(nodes_[ref / kTreeWidth], ctx, w);
+    pmf *= float(w.weight[ref % kTreeWidth] / w.sum);
   }
   return pmf;
 }
 
 void LightTreeSampler::refit(const LightList& lights) {
-  if (!nodes_.empty()) refit(lights, 0, uint32_t(nodes_.size()));
+  if (!nodes_.empty()) root_ = refit(lights, 0);
 }
 
-// Leaves take their lights' new bounds, interior nodes the merge of their children's; the subtree of
-// `node` occupies nodes [node, end).
-void LightTreeSampler::refit(const LightList& lights, uint32_t node, uint32_t end) {
+// A node's children take their lights' new bounds or their subtrees' merged ones (subtrees of more than
+// kParallelGrain lights in parallel); returns the merge of all of them.
+LightBounds LightTreeSampler::refit(const LightList& lights, uint32_t node) {
   Node& n = nodes_[node];
-  if (n.leaf) {
-    n.bounds = light_bounds(lights, n.index);
-    return;
-  }
-  auto first = [&] { refit(lights, node + 1, n.index); };
-  auto other = [&] { refit(lights, n.index, end); };
-  if (end - node > kParallelGrain) parallel_invoke(first, other);
-  else { first(); other(); }
-  n.bounds = merge(nodes_[node + 1].bounds, nodes_[n.index].bounds);
+  LightBounds slot[kTreeWidth];
+  auto one = [&](uint32_t k) {
+    const uint32_t child = n.child[k];
+    slot[k] = child & kLeaf ? light_bounds(lights, child & ~kLeaf) : refit(lights, child);
+    n.bounds.set(int(k), slot[k]);
+  };
+  if (n.lights > kParallelGrain) parallel_for(0u, n.count, one);
+  else for (uint32_t k = 0; k < n.count; ++k) one(k);
+  LightBounds all = slot[0];
+  for (uint32_t k = 1; k < n.count; ++k) all = merge(all, slot[k]);
+  return all;
 }
 
 ExhaustiveLightSampler::ExhaustiveLightSampler(const LightList& lights) {

@@ -4,19 +4,20 @@
 // density alike (where p_hat > 0, the only place it is read); a kernel that fused a multiply-add or reordered a sum fails here.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <memory>
 #include <string>
 
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
+#include "engine/simd_targets.h"
 #include "restir/di_candidates.h"
 #include "tests/render_helpers.h"
+#include "tests/test_util.h"
 
 namespace candela {
 namespace {
 
-bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof(float)) == 0; }
+using testing::same_bits;
 
 vec3 random_unit(Rng& rng) {
   vec3 v;
@@ -70,7 +71,7 @@ TEST(TargetLanes, KernelGivesTheScalarBitsOnRandomInputs) {
     params.light_candidates = kCandidates;
     params.bsdf_candidates = 1;
     evaluate_candidates_scalar(params, kLaneSlots, *scalar);
-    for_each_candidate_lanes_target([&](const char* target) {
+    for_each_simd_target([&](const char* target) {
       if (batches == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
       evaluate_candidate_lanes(lanes->lanes, lanes->planes.data(), kCandidates, kLaneSlots, true);
       for (int k = 0; k < kCandidates; ++k)

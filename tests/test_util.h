@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -75,5 +76,8 @@ inline double gamma_q(double a, double x) {
 
 // p-value of a chi-square statistic with `dof` degrees of freedom.
 inline double chi_square_p_value(double statistic, int dof) { return gamma_q(0.5 * dof, 0.5 * statistic); }
+
+// Exact equality, also of NaNs and signed zeros: SIMD kernels against their scalar references.
+inline bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof(float)) == 0; }
 
 }  // namespace candela::testing

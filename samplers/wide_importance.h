@@ -1,0 +1,28 @@
+#pragma once
+// The light tree's inner loop: the importance (light_bounds.h, LightBounds::importance) of a node's 8
+// children for one shading point, in SIMD lanes (Highway, dispatched at run time; engine/simd_targets.h).
+// The lanes repeat the scalar arithmetic in the same order without fused multiply-adds, so each equals
+// LightBounds::importance bit for bit on every instruction set (tests/test_samplers.cpp).
+#include "samplers/light_bounds.h"
+
+namespace candela {
+
+constexpr int kTreeWidth = 8;
+
+// The bounds of up to 8 siblings side by side (structure of arrays, 384 bytes); an empty slot has phi 0
+// and so importance 0.
+struct alignas(64) WideBounds {
+  float cx[kTreeWidth], cy[kTreeWidth], cz[kTreeWidth], radius[kTreeWidth];
+  float wx[kTreeWidth], wy[kTreeWidth], wz[kTreeWidth], phi[kTreeWidth];
+  float cos_o[kTreeWidth], sin_o[kTreeWidth], cos_e[kTreeWidth], two_sided[kTreeWidth];  // two_sided: 0 or 1
+
+  WideBounds();  // every slot empty
+  void set(int slot, const LightBounds& b);
+  LightBounds get(int slot) const;
+};
+
+// out[k] = get(k).importance(p, n) for the 8 slots. Cost: ~45 flops, 2 square roots and 3 divisions per
+// slot, in one AVX2 / AVX-512 vector or two SSE ones.
+void wide_importance(const WideBounds& bounds, const vec3& p, const vec3& n, float out[kTreeWidth]);
+
+}  // namespace candela
