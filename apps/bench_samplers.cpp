@@ -96,8 +96,8 @@ int run_sampler_bench(const BenchOptions& o) {
               BenchResults::median(r.ns_per_iteration, "tree_build/" + std::to_string(big.lights->size())) * 1e-6,
               mid.lights->size(), BenchResults::median(r.ns_per_iteration, "tree_refit/" + std::to_string(mid.lights->size())) * 1e-6);
   LightTreeSampler big_tree(*big.lights);
-  std::printf("tree over %zu lights: %d levels of %d-wide nodes, %.1f bytes per light\n", big.lights->size(), big_tree.depth(),
-              kTreeWidth, double(big_tree.memory_bytes()) / double(big.lights->size()));
+  std::printf("tree over %zu lights: %zu nodes of %d children in %d levels, %.1f bytes per light\n", big.lights->size(),
+              big_tree.node_count(), kTreeWidth, big_tree.depth(), double(big_tree.memory_bytes()) / double(big.lights->size()));
   return 0;
 }
 

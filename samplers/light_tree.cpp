@@ -179,6 +179,7 @@ bool InfiniteLightChoice::choose(double& u, SampledLight& out) const {
 
 LightTreeSampler::LightTreeSampler(const LightList& lights) {
   std::vector<Entry> entries;
+  entries.reserve(lights.size());
   std::vector<uint32_t> infinite;
   slot_of_.assign(lights.size(), kNoSlot);
   for (uint32_t i = 0; i < lights.size(); ++i) {
@@ -192,14 +193,14 @@ LightTreeSampler::LightTreeSampler(const LightList& lights) {
   std::vector<BinaryNode> binary(2 * entries.size() - 1);
   build_binary(binary, entries, 0, entries.size(), 0, 0);
   root_ = binary[0].bounds;
-  nodes_.reserve(entries.size() / 4 + 1);
   collapse(binary, 0, uint32_t(binary.size()), kNoSlot, 0);
 }
 
 // The wide node over the binary subtree at `node`: its two children, then, again and again, the child with
 // the most lights opened into its two, until there are 8 (the collapse of a binary BVH into a wide one,
 // as in Wald, Benthin & Boulos 2008, "Getting rid of packets", here by light count so that the tree stays
-// shallow). Children keep the binary tree's order and exact bounds. Nodes are numbered depth first.
+// shallow, and stopping at children small enough to be one full node). Children keep the binary tree's
+// order and exact bounds. Nodes are numbered depth first.
 uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up, int depth) {
   struct Span {
     uint32_t node, end;  // a binary subtree: nodes [node, end), (end - node + 1) / 2 lights
@@ -214,13 +215,15 @@ uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint3
     slots[k + 1] = {binary[s.node].index, s.end};
     ++count;
   };
+  auto lights = [](Span s) { return (s.end - s.node + 1) / 2; };
   if (!binary[node].leaf) open(0);
   while (count < kTreeWidth) {
     int largest = -1;
     for (int k = 0; k < count; ++k)
-      if (!binary[slots[k].node].leaf && (largest < 0 || slots[k].end - slots[k].node > slots[largest].end - slots[largest].node))
-        largest = k;
-    if (largest < 0) break;
+      if (!binary[slots[k].node].leaf && (largest < 0 || lights(slots[k]) > lights(slots[largest]))) largest = k;
+    // A child of at most 8 lights stays whole (it becomes one node of leaves) unless this node can hold all of
+    // its lights: opening it further would leave nodes of 2 or 3 children below.
+    if (largest < 0 || (lights(slots[largest]) <= uint32_t(kTreeWidth) && lights({node, end}) > uint32_t(kTreeWidth))) break;
     open(largest);
   }
   CHECK(depth < kMaxDepth);
