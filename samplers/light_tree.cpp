@@ -15,6 +15,12 @@ constexpr int kMaxDepth = 64;  // levels of the binary tree, and so at most thos
 constexpr uint32_t kNoSlot = 0xffffffffu;
 constexpr size_t kParallelGrain = 4096;  // subtrees smaller than this are built / refitted serially
 
+// A subtree of the binary tree: nodes [node, end).
+struct Span {
+  uint32_t node, end;
+  uint32_t lights() const { return (end - node + 1) / 2; }
+};
+
 // A light as the build sees it.
 struct Entry {
   uint32_t light;
@@ -160,6 +166,45 @@ void build_binary(std::vector<BinaryNode>& nodes, std::vector<Entry>& entries, s
 }
 
 
+// The children of the wide node over the binary subtree at `node` (binary nodes [node, end)): its two
+// children, then, again and again, the child with the most lights opened into its two, until there are 8
+// (the collapse of a binary BVH into a wide one, as in Wald, Benthin & Boulos 2008, "Getting rid of
+// packets", here by light count so that the tree stays shallow, and stopping at children small enough to be
+// one full node). Children keep the binary tree's order. Returns how many.
+int open_slots(const std::vector<BinaryNode>& binary, uint32_t node, uint32_t end, Span slots[kTreeWidth]) {
+  int count = 1;
+  slots[0] = {node, end};
+  auto open = [&](int k) {
+    Span s = slots[k];
+    for (int j = count; j > k + 1; --j) slots[j] = slots[j - 1];
+    slots[k] = {s.node + 1, binary[s.node].index};
+    slots[k + 1] = {binary[s.node].index, s.end};
+    ++count;
+  };
+  if (!binary[node].leaf) open(0);
+  while (count < kTreeWidth) {
+    int largest = -1;
+    for (int k = 0; k < count; ++k)
+      if (!binary[slots[k].node].leaf && (largest < 0 || slots[k].lights() > slots[largest].lights())) largest = k;
+    // A child of at most 8 lights stays whole (it becomes one node of leaves) unless this node can hold all of
+    // its lights: opening it further would leave nodes of 2 or 3 children below.
+    if (largest < 0 || (slots[largest].lights() <= uint32_t(kTreeWidth) && Span{node, end}.lights() > uint32_t(kTreeWidth)))
+      break;
+    open(largest);
+  }
+  return count;
+}
+
+// How many wide nodes the binary subtree at `node` collapses into (so that the nodes are allocated once).
+uint32_t count_wide_nodes(const std::vector<BinaryNode>& binary, uint32_t node, uint32_t end) {
+  Span slots[kTreeWidth];
+  const int count = open_slots(binary, node, end, slots);
+  uint32_t total = 1;
+  for (int k = 0; k < count; ++k)
+    if (!binary[slots[k].node].leaf) total += count_wide_nodes(binary, slots[k].node, slots[k].end);
+  return total;
+}
+
 }  // namespace
 
 InfiniteLightChoice::InfiniteLightChoice(std::vector<uint32_t> indices, bool has_finite) : indices_(std::move(indices)) {
@@ -193,46 +238,24 @@ LightTreeSampler::LightTreeSampler(const LightList& lights) {
   std::vector<BinaryNode> binary(2 * entries.size() - 1);
   build_binary(binary, entries, 0, entries.size(), 0, 0);
   root_ = binary[0].bounds;
+  const uint32_t wide_nodes = count_wide_nodes(binary, 0, uint32_t(binary.size()));
+  nodes_.reserve(wide_nodes);
+  parent_.reserve(wide_nodes);
   collapse(binary, 0, uint32_t(binary.size()), kNoSlot, 0);
 }
 
-// The wide node over the binary subtree at `node`: its two children, then, again and again, the child with
-// the most lights opened into its two, until there are 8 (the collapse of a binary BVH into a wide one,
-// as in Wald, Benthin & Boulos 2008, "Getting rid of packets", here by light count so that the tree stays
-// shallow, and stopping at children small enough to be one full node). Children keep the binary tree's
-// order and exact bounds. Nodes are numbered depth first.
+// The wide node over the binary subtree at `node` (open_slots), with its children's exact bounds from the
+// binary tree; nodes are numbered depth first.
 uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up, int depth) {
-  struct Span {
-    uint32_t node, end;  // a binary subtree: nodes [node, end), (end - node + 1) / 2 lights
-  };
   Span slots[kTreeWidth];
-  int count = 1;
-  slots[0] = {node, end};
-  auto open = [&](int k) {
-    Span s = slots[k];
-    for (int j = count; j > k + 1; --j) slots[j] = slots[j - 1];
-    slots[k] = {s.node + 1, binary[s.node].index};
-    slots[k + 1] = {binary[s.node].index, s.end};
-    ++count;
-  };
-  auto lights = [](Span s) { return (s.end - s.node + 1) / 2; };
-  if (!binary[node].leaf) open(0);
-  while (count < kTreeWidth) {
-    int largest = -1;
-    for (int k = 0; k < count; ++k)
-      if (!binary[slots[k].node].leaf && (largest < 0 || lights(slots[k]) > lights(slots[largest]))) largest = k;
-    // A child of at most 8 lights stays whole (it becomes one node of leaves) unless this node can hold all of
-    // its lights: opening it further would leave nodes of 2 or 3 children below.
-    if (largest < 0 || (lights(slots[largest]) <= uint32_t(kTreeWidth) && lights({node, end}) > uint32_t(kTreeWidth))) break;
-    open(largest);
-  }
+  const int count = open_slots(binary, node, end, slots);
   CHECK(depth < kMaxDepth);
   max_depth_ = std::max(max_depth_, depth + 1);
   const uint32_t index = uint32_t(nodes_.size());
   nodes_.emplace_back();
   parent_.push_back(up);
   nodes_[index].count = uint32_t(count);
-  nodes_[index].lights = (end - node + 1) / 2;
+  nodes_[index].lights = Span{node, end}.lights();
   for (int k = 0; k < count; ++k) {
     const BinaryNode& b = binary[slots[k].node];
     nodes_[index].bounds.set(k, b.bounds);
