@@ -74,6 +74,13 @@ LightBounds light_bounds(const LightList& lights, size_t index, Bounds3* box) {
 }
 
 float cone_measure(float cos_theta_o, float cos_theta_e) {
+  // Area emitters (theta_e = pi/2) whose normals spread at most pi/2, the common case among the build's
+  // split costs: with theta_w = theta_o + pi/2 the formula needs no inverse trigonometry,
+  // 2 pi (1 - cos theta_o) + pi/2 (pi sin theta_o + 2 cos theta_o).
+  if (cos_theta_e == 0.0f && cos_theta_o >= 0.0f) {
+    const float sin_o = light_bounds_detail::safe_sqrt(1.0f - cos_theta_o * cos_theta_o);
+    return 2.0f * kPi * (1.0f - cos_theta_o) + 0.5f * kPi * (kPi * sin_o + 2.0f * cos_theta_o);
+  }
   float theta_o = std::acos(std::clamp(cos_theta_o, -1.0f, 1.0f));
   float theta_e = std::acos(std::clamp(cos_theta_e, -1.0f, 1.0f));
   float theta_w = std::min(theta_o + theta_e, kPi);
