@@ -57,15 +57,21 @@ static MeshEmission analyse_mesh(const Scene& scene, const Mesh& mesh) {
 LightList::LightList(const Scene& scene) : environment_(scene.environment), scene_radius_(0.5f * scene.bounds().diagonal()) {
   mesh_emission_.reserve(scene.meshes.size());
   for (const Mesh& mesh : scene.meshes) mesh_emission_.push_back(analyse_mesh(scene, mesh));
+  // Each emitting instance's lights follow the previous one's; the slots are allocated once, then the
+  // instances place their lights in parallel (1e6 lights: one world-space triangle each).
   instance_first_light_.assign(scene.instances.size(), -1);
+  size_t total = 0;
   for (uint32_t i = 0; i < scene.instances.size(); ++i) {
     instance_mesh_.push_back(uint32_t(scene.instances[i].mesh));
     const MeshEmission& me = mesh_emission_[scene.instances[i].mesh];
     if (me.prims.empty()) continue;
-    instance_first_light_[i] = int64_t(triangles_.size());
-    triangles_.resize(triangles_.size() + me.prims.size());
-    place_instance(scene, i);
+    instance_first_light_[i] = int64_t(total);
+    total += me.prims.size();
   }
+  triangles_.resize(total);
+  parallel_for(uint32_t(0), uint32_t(scene.instances.size()), [&](uint32_t i) {
+    if (instance_first_light_[i] >= 0) place_instance(scene, i);
+  });
   for (const PunctualLight& l : scene.punctual_lights) punctual_.push_back(to_world(scene, l));
 }
 
