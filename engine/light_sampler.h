@@ -27,4 +27,14 @@ concept LightSampler = requires(const S& s, const ShadingContext& ctx, vec2 u, u
   { s.pmf(ctx, index) } -> std::convertible_to<float>;
 };
 
+// n lights for one shading point: out[k] = sampler.sample(ctx, u[k]), through the sampler's sample_many
+// where it has one (the light tree shares the work of the upper levels between the descents).
+template <LightSampler S>
+void sample_lights(const S& sampler, const ShadingContext& ctx, const vec2* u, SampledLight* out, int n) {
+  if constexpr (requires { sampler.sample_many(ctx, u, out, n); })
+    sampler.sample_many(ctx, u, out, n);
+  else
+    for (int k = 0; k < n; ++k) out[k] = sampler.sample(ctx, u[k]);
+}
+
 }  // namespace candela

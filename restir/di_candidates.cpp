@@ -8,6 +8,9 @@ void DiCandidateBatch::resize(int light_candidates, int bsdf_candidates) {
   sample.resize(k * kLaneSlots);
   p_light.resize(k * kLaneSlots);
   u.resize(k * kLaneSlots);
+  light_u.resize(k);
+  light_uv.resize(k);
+  chosen.resize(k);
   bsdf.resize(size_t(std::max(bsdf_candidates, 0)) * kLaneSlots);
 }
 

@@ -32,6 +32,9 @@ struct DiCandidateBatch {
     Hit hit;
   };
   std::vector<BsdfCandidate> bsdf;  // [k * kLaneSlots + slot]
+  // One slot's light choices while they are drawn: uniforms for the choice and for the point, the choices.
+  std::vector<vec2> light_u, light_uv;
+  std::vector<SampledLight> chosen;
   void resize(int light_candidates, int bsdf_candidates);
 };
 
@@ -55,9 +58,9 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
   b.receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
   batch.lanes.set(slot, b.target.position, b.target.geometric_normal, b.target.wo, b.target.bsdf.wo_terms(b.target.wo),
                   b.receiver.bsdf.wo_terms(b.receiver.wo));
-  for (int k = 0; k < params.light_candidates; ++k) {
-    const size_t at = size_t(k) * kLaneSlots + size_t(slot);
-    if (tile) {
+  if (tile) {
+    for (int k = 0; k < params.light_candidates; ++k) {
+      const size_t at = size_t(k) * kLaneSlots + size_t(slot);
       const int size = params.light_tile_size;
       const LightTileEntry& entry = tile[std::min(int(b.rng.next_float() * float(size)), size - 1)];
       batch.u[at] = b.rng.next_float();
@@ -65,14 +68,23 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
       if (entry.p_light <= 0.0f) continue;
       batch.sample[at] = entry.sample;
       if (entry.sample.light < view.lights.triangle_count()) batch.planes[size_t(k)].set(slot, entry.sample.point);
-      continue;
     }
-    SampledLight chosen = sampler.sample(b.ctx, vec2(b.rng.next_float(), b.rng.next_float()));
-    vec2 uv(b.rng.next_float(), b.rng.next_float());
-    batch.u[at] = b.rng.next_float();
+    return;
+  }
+  // The M_l lights in one call (the light tree shares its upper levels between them), each candidate's
+  // random numbers drawn in the order one candidate at a time would draw them.
+  for (int k = 0; k < params.light_candidates; ++k) {
+    batch.light_u[size_t(k)] = vec2(b.rng.next_float(), b.rng.next_float());
+    batch.light_uv[size_t(k)] = vec2(b.rng.next_float(), b.rng.next_float());
+    batch.u[size_t(k) * kLaneSlots + size_t(slot)] = b.rng.next_float();
+  }
+  sample_lights(sampler, b.ctx, batch.light_u.data(), batch.chosen.data(), params.light_candidates);
+  for (int k = 0; k < params.light_candidates; ++k) {
+    const size_t at = size_t(k) * kLaneSlots + size_t(slot);
+    const SampledLight& chosen = batch.chosen[size_t(k)];
     batch.p_light[at] = 0.0f;
     if (chosen.pmf <= 0.0f) continue;
-    batch.sample[at] = di_resolve(view.scene, view.lights, chosen.index, uv);
+    batch.sample[at] = di_resolve(view.scene, view.lights, chosen.index, batch.light_uv[size_t(k)]);
     batch.p_light[at] = chosen.pmf * di_area_pdf(view.lights, chosen.index);
     if (chosen.index < view.lights.triangle_count()) batch.planes[size_t(k)].set(slot, batch.sample[at].point);
   }

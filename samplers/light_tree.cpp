@@ -297,18 +297,15 @@ void LightTreeSampler::child_weights(const Node& node, const ShadingContext& ctx
   while (out.weight[out.last] <= 0.0f) --out.last;
 }
 
-// Stochastic descent: at each node, a child with probability weight / sum (child_weights); the 48-bit
-// uniform is rescaled into the chosen child's interval so that it serves the next level too.
-SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const {
-  double u = wide_uniform(u2);
-  SampledLight chosen;
-  if (infinite_.choose(u, chosen)) return chosen;
-  if (nodes_.empty() || root_.importance(ctx.position, ctx.normal) <= 0.0f) return {};
+// Stochastic descent from the root: at each node, a child with probability weight / sum (weights_of(node),
+// child_weights' values); the 48-bit uniform (its share left after the infinite lights) is rescaled into the
+// chosen child's interval so that it serves the next level too.
+template <class WeightsOf>
+SampledLight LightTreeSampler::descend(double u, WeightsOf&& weights_of) const {
   float pmf = 1.0f - infinite_.probability();
   for (uint32_t node = 0;;) {
     const Node& n = nodes_[node];
-    ChildWeights w;
-    child_weights(n, ctx, w);
+    const ChildWeights& w = weights_of(node);
     // The child whose share of [0, sum) holds u * sum, found without branches: k shares end at or before
     // it. A child of weight 0 ends where the one before it does, so it is never chosen; the last child with
     // weight takes what rounding leaves over.
@@ -319,6 +316,44 @@ SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const 
     pmf *= float(w.weight[k] / w.sum);
     if (n.child[k] & kLeaf) return {n.child[k] & ~kLeaf, pmf};
     node = n.child[k];
+  }
+}
+
+SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const {
+  double u = wide_uniform(u2);
+  SampledLight chosen;
+  if (infinite_.choose(u, chosen)) return chosen;
+  if (nodes_.empty() || root_.importance(ctx.position, ctx.normal) <= 0.0f) return {};
+  ChildWeights w;
+  return descend(u, [&](uint32_t node) -> const ChildWeights& {
+    child_weights(nodes_[node], ctx, w);
+    return w;
+  });
+}
+
+// The descents share one shading point, so a node's weights are computed once for all of them (up to 32
+// nodes are remembered; past that the last entry is reused). Same results as n calls of sample().
+void LightTreeSampler::sample_many(const ShadingContext& ctx, const vec2* u2, SampledLight* out, int n) const {
+  constexpr int kRemembered = 32;
+  struct Remembered {
+    uint32_t node;
+    ChildWeights weights;
+  };
+  Remembered remembered[kRemembered];
+  int used = 0;
+  auto weights_of = [&](uint32_t node) -> const ChildWeights& {
+    for (int i = 0; i < used; ++i)
+      if (remembered[i].node == node) return remembered[i].weights;
+    Remembered& r = remembered[used < kRemembered ? used++ : kRemembered - 1];
+    r.node = node;
+    child_weights(nodes_[node], ctx, r.weights);
+    return r.weights;
+  };
+  const bool reachable = !nodes_.empty() && root_.importance(ctx.position, ctx.normal) > 0.0f;
+  for (int k = 0; k < n; ++k) {
+    double u = wide_uniform(u2[k]);
+    if (infinite_.choose(u, out[k])) continue;
+    out[k] = reachable ? descend(u, weights_of) : SampledLight{};
   }
 }
 

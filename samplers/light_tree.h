@@ -46,6 +46,8 @@ class LightTreeSampler {
   explicit LightTreeSampler(const LightList& lights);
 
   SampledLight sample(const ShadingContext& ctx, vec2 u) const;
+  // n samples for one shading point (out[k] = sample(ctx, u[k]) exactly), each node's weights computed once.
+  void sample_many(const ShadingContext& ctx, const vec2* u, SampledLight* out, int n) const;
   float pmf(const ShadingContext& ctx, uint32_t index) const;
   // Recomputes every node's bounds from the lights' current geometry and power (same topology), subtrees
   // in parallel. O(n). Lights without power when the tree was built stay out of it (pmf 0) until a rebuild.
@@ -82,6 +84,8 @@ class LightTreeSampler {
     int last;  // the last child with weight > 0
   };
   void child_weights(const Node& node, const ShadingContext& ctx, ChildWeights& out) const;
+  template <class WeightsOf>
+  SampledLight descend(double u, WeightsOf&& weights_of) const;
 
   std::vector<Node> nodes_;
   LightBounds root_;                // bounds of all finite lights

@@ -164,6 +164,32 @@ TEST(Samplers, TreeFrequenciesMatchPmfInStainedGlassLamp) {
 }
 TEST(Samplers, TreeFrequenciesMatchPmfInTheCity) { check_context_sampler<LightTreeSampler>(make_city_scene(7), 3, 200000); }
 
+// sample_many (one shading point, each node's weights computed once) gives exactly what sample() gives for
+// each uniform, also past the 32 nodes it remembers (200 draws at a point of manylights with 4,096 lights)
+// and with a directional light beside the finite ones.
+TEST(Samplers, TreeSampleManyEqualsSample) {
+  for (const Scene& scene : {make_manylights_scene(2048, 7), manylights_with_sun()}) {
+    LightList lights(scene);
+    LightTreeSampler tree(lights);
+    Rng rng(12, 3);
+    int compared = 0;
+    for (const ShadingContext& ctx : shading_points(scene, 16, 41)) {
+      for (int n : {1, 8, 200}) {
+        std::vector<vec2> u(static_cast<size_t>(n));
+        for (vec2& v : u) v = vec2(rng.next_float(), rng.next_float());
+        std::vector<SampledLight> many(static_cast<size_t>(n));
+        tree.sample_many(ctx, u.data(), many.data(), n);
+        for (int k = 0; k < n; ++k, ++compared) {
+          const SampledLight one = tree.sample(ctx, u[size_t(k)]);
+          ASSERT_EQ(many[size_t(k)].index, one.index) << "draw " << k << " of " << n;
+          ASSERT_TRUE(testing::same_bits(many[size_t(k)].pmf, one.pmf)) << "draw " << k << " of " << n;
+        }
+      }
+    }
+    EXPECT_EQ(compared, 16 * 209);
+  }
+}
+
 // The cone measure the tree's build weighs splits with (Conty Estevez & Kulla 2018, eq. 1):
 // 2 pi times the integral of sin t over [0, theta_o] plus that of cos(t - theta_o) sin t over
 // [theta_o, theta_w], theta_w = min(theta_o + theta_e, pi), integrated numerically in double (midpoint rule,
