@@ -14,6 +14,7 @@
 #include "engine/gbuffer.h"
 #include "engine/lights.h"
 #include "engine/rng.h"
+#include "engine/simd_targets.h"
 #include "engine/surface.h"
 #include "engine/tiles.h"
 #include "engine/tracer.h"
@@ -171,6 +172,7 @@ int run_bench(const BenchOptions& options) {
   BenchOptions o = options;
   if (o.width == 0) o.width = o.suite == "soak" ? 64 : 1280;
   if (o.height == 0) o.height = o.suite == "soak" ? 36 : 720;
+  std::fprintf(stderr, "SIMD kernels run with %s\n", simd_target_name());
   if (o.suite == "soak") return run_soak_bench(o);
   if (o.suite == "samplers") return run_sampler_bench(o);
   if (o.suite == "restir") return run_restir_bench(o);

@@ -6,7 +6,7 @@
 
 namespace candela {
 
-// The instruction set the kernels run with on this CPU (for bench output).
+// The instruction set the kernels run with on this CPU (candela bench prints it).
 const char* simd_target_name();
 // Calls fn once per instruction set that both this CPU supports and the kernels were compiled for, with
 // every kernel dispatched to it meanwhile (tests: every code path on one machine).

@@ -105,6 +105,40 @@ struct BinaryNode {
 namespace {
 using light_tree_detail::BinaryNode;
 
+// Binned SAOH over entries [begin, end) (their accumulated bounds `all`): the cheapest (axis, bucket
+// boundary) over 12 buckets per axis of the centroid box, one pass filling the buckets of all three axes;
+// partitions the entries by it and returns where the second part starts (begin or end: no split found).
+size_t saoh_partition(std::vector<Entry>& entries, size_t begin, size_t end, const BoundsAccumulator& all) {
+  const vec3 extent = all.centroids.extent();
+  auto bucket_of = [&](const Entry& e, int axis) {
+    float t = (e.box.center()[axis] - all.centroids.lo[axis]) / extent[axis];
+    return std::clamp(int(t * kBuckets), 0, kBuckets - 1);
+  };
+  BoundsAccumulator buckets_of_axis[3][kBuckets];
+  for (size_t k = begin; k < end; ++k)
+    for (int axis = 0; axis < 3; ++axis)
+      if (extent[axis] > 0.0f) buckets_of_axis[axis][bucket_of(entries[k], axis)].add(entries[k].bounds, entries[k].box, false);
+  float best_cost = kInfinity;
+  int best_axis = -1, best_split = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (extent[axis] <= 0.0f) continue;
+    const BoundsAccumulator* bucket = buckets_of_axis[axis];
+    float regularization = max_component(all.box.extent()) / std::max(all.box.extent()[axis], 1e-12f);
+    for (int split = 1; split < kBuckets; ++split) {
+      BoundsAccumulator left, right;
+      for (int b = 0; b < split; ++b) left.add(bucket[b]);
+      for (int b = split; b < kBuckets; ++b) right.add(bucket[b]);
+      if (!left.count || !right.count) continue;
+      float cost = saoh_cost(left, regularization) + saoh_cost(right, regularization);
+      if (cost < best_cost) { best_cost = cost; best_axis = axis; best_split = split; }
+    }
+  }
+  if (best_axis < 0) return begin;
+  auto it = std::partition(entries.begin() + begin, entries.begin() + end,
+                           [&](const Entry& e) { return bucket_of(e, best_axis) < best_split; });
+  return size_t(it - entries.begin());
+}
+
 // Builds the subtree over entries [begin, end) in depth-first order: the first child right after its
 // parent, the second after the first child's 2m - 1 nodes (m lights), which fixes every index in advance
 // so that subtrees build in parallel. Deeper than level 32, and in nodes of kSaohMinLights lights or fewer, it
@@ -118,44 +152,11 @@ void build_binary(std::vector<BinaryNode>& nodes, std::vector<Entry>& entries, s
   for (size_t k = begin; k < end; ++k) all.add(entries[k].bounds, entries[k].box);
   nodes[node].bounds = bounds_of(all, &entries[begin], entries.data() + end);
 
-  // Binned SAOH: the cheapest (axis, bucket boundary) over up to 12 buckets per axis of the centroid
-  // box (no more buckets than lights: a small node has few distinct splits).
-  vec3 extent = all.centroids.extent();
-  const int buckets = int(std::min<size_t>(kBuckets, end - begin));
-  float best_cost = kInfinity;
-  int best_axis = -1, best_split = 0;
-  auto bucket_of = [&](const Entry& e, int axis) {
-    float t = (e.box.center()[axis] - all.centroids.lo[axis]) / extent[axis];
-    return std::clamp(int(t * buckets), 0, buckets - 1);
-  };
-  // One pass over the entries fills the buckets of all three axes.
-  BoundsAccumulator buckets_of_axis[3][kBuckets];
-  const bool saoh = depth < 32 && end - begin > kSaohMinLights;
-  if (saoh)
-    for (size_t k = begin; k < end; ++k)
-      for (int axis = 0; axis < 3; ++axis)
-        if (extent[axis] > 0.0f) buckets_of_axis[axis][bucket_of(entries[k], axis)].add(entries[k].bounds, entries[k].box, false);
-  for (int axis = 0; axis < 3 && saoh; ++axis) {
-    if (extent[axis] <= 0.0f) continue;
-    const BoundsAccumulator* bucket = buckets_of_axis[axis];
-    float regularization = max_component(all.box.extent()) / std::max(all.box.extent()[axis], 1e-12f);
-    for (int split = 1; split < buckets; ++split) {
-      BoundsAccumulator left, right;
-      for (int b = 0; b < split; ++b) left.add(bucket[b]);
-      for (int b = split; b < buckets; ++b) right.add(bucket[b]);
-      if (!left.count || !right.count) continue;
-      float cost = saoh_cost(left, regularization) + saoh_cost(right, regularization);
-      if (cost < best_cost) { best_cost = cost; best_axis = axis; best_split = split; }
-    }
-  }
+  const vec3 extent = all.centroids.extent();
   size_t mid = begin;
-  if (best_axis >= 0) {
-    auto it = std::partition(entries.begin() + begin, entries.begin() + end,
-                             [&](const Entry& e) { return bucket_of(e, best_axis) < best_split; });
-    mid = size_t(it - entries.begin());
-  }
+  if (depth < 32 && end - begin > kSaohMinLights) mid = saoh_partition(entries, begin, end, all);
   if (mid == begin || mid == end) {
-    // No useful split (coincident centroids, or deep): halve by count along the widest axis.
+    // No SAOH split (a small or deep node, or coincident centroids): halve by count along the widest axis.
     mid = begin + (end - begin) / 2;
     int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
     std::nth_element(entries.begin() + begin, entries.begin() + mid, entries.begin() + end, [&](const Entry& a, const Entry& b) {

@@ -7,7 +7,7 @@
 //
 // The tree is built binary (binned SAOH) and collapsed to 8 children per node, stored side by side
 // (wide_importance.h) so that one SIMD pass gives a level's 8 importances: a third of the binary tree's
-// levels (7 instead of ~22 at 1e6 lights), each one vector evaluation.
+// levels (8 instead of about 24 over 1e6 lights of builtin:manylights), each one vector evaluation.
 #include <algorithm>
 #include <vector>
 
@@ -41,7 +41,8 @@ struct BinaryNode;  // the binary tree the build starts from (light_tree.cpp)
 
 class LightTreeSampler {
  public:
-  // Builds with a binned surface-area-orientation heuristic (12 buckets per axis), subtrees in parallel.
+  // Builds a binary tree with a binned surface-area-orientation heuristic (12 buckets per axis; median
+  // splits in nodes of at most 256 lights), subtrees in parallel, then collapses it to 8 children per node.
   // O(n log n); the tree does not depend on the thread count.
   explicit LightTreeSampler(const LightList& lights);
 

@@ -88,16 +88,5 @@ void WideBounds::set(int s, const LightBounds& b) {
   cos_o[s] = b.cos_theta_o, sin_o[s] = b.sin_theta_o, cos_e[s] = b.cos_theta_e, two_sided[s] = b.two_sided ? 1.0f : 0.0f;
 }
 
-LightBounds WideBounds::get(int s) const {
-  LightBounds b;
-  b.center = vec3(cx[s], cy[s], cz[s]);
-  b.radius = radius[s];
-  b.w = vec3(wx[s], wy[s], wz[s]);
-  b.phi = phi[s];
-  b.cos_theta_o = cos_o[s], b.sin_theta_o = sin_o[s], b.cos_theta_e = cos_e[s];
-  b.two_sided = two_sided[s] > 0.0f;
-  return b;
-}
-
 }  // namespace candela
 #endif  // HWY_ONCE

@@ -18,11 +18,10 @@ struct alignas(64) WideBounds {
 
   WideBounds();  // every slot empty
   void set(int slot, const LightBounds& b);
-  LightBounds get(int slot) const;
 };
 
-// out[k] = get(k).importance(p, n) for the 8 slots. Cost: ~45 flops, 2 square roots and 3 divisions per
-// slot, in one AVX2 / AVX-512 vector or two SSE ones.
+// out[k] = LightBounds::importance(p, n) of slot k, for the 8 slots. Cost: ~50 flops, 4 square roots and 5
+// divisions per slot, in one AVX2 / AVX-512 vector or two SSE ones.
 void wide_importance(const WideBounds& bounds, const vec3& p, const vec3& n, float out[kTreeWidth]);
 
 }  // namespace candela

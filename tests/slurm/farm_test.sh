@@ -8,16 +8,22 @@
 #  3. failure drill: the array again, task 1 cancelled (scancel JOB_1) once its first frame is written; the
 #     re-submitted array renders only the missing frames (the tasks' logs and task 1's stats say so), leaves
 #     the finished files untouched (same mtimes) and no temporary files, and all 12 PNGs equal the single run.
-# Skips (exit 0, "SKIP:" and the reason) when not root or Slurm is not installed, and when the cluster
-# cannot start unless CANDELA_FARM_STRICT=1 (set by .ci/run), where that is a failure.
+# Skips (exit 0, "SKIP:" and the reason) when not root, when Slurm is not installed or when the cluster
+# cannot start; with CANDELA_FARM_STRICT=1 (set by .ci/run) each of these is a failure instead. The default
+# WORKDIR (a new temporary directory) is removed after a pass.
 # usage: farm_test.sh CANDELA [WORKDIR]   (make test-farm: WORKDIR build/farm)
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 candela=$(realpath "$1")
+own_work=0
+[ -n "${2:-}" ] || own_work=1
 work=${2:-$(mktemp -d /tmp/candela-farm.XXXXXX)}
 sbatch_file=$repo/docs/farm/render_shot.sbatch
 shot=$repo/tests/data/scripts/farm_twelve_frames.json
-skip() { echo "SKIP: farm test: $*"; exit 0; }
+skip() {
+  [ "${CANDELA_FARM_STRICT:-0}" = 1 ] && fail "cannot run (CANDELA_FARM_STRICT=1): $*"
+  echo "SKIP: farm test: $*"; exit 0
+}
 fail() { echo "FAIL: farm test: $*"; [ -n "${CLUSTER_DIR:-}" ] && cluster_log_tail; exit 1; }
 
 [ "$(id -u)" = 0 ] || skip "slurmd must run as root"
@@ -29,7 +35,6 @@ source "$repo/tests/slurm/local_cluster.sh"
 trap cluster_stop EXIT
 # The cluster's own directory is short (a unix socket path holds at most 107 bytes) and goes with it.
 if ! cluster_start "$(mktemp -d /tmp/candela-slurm.XXXXXX)"; then
-  [ "${CANDELA_FARM_STRICT:-0}" = 1 ] && fail "the Slurm cluster did not start (logs above)"
   skip "the Slurm cluster did not start (logs above)"
 fi
 echo "Slurm cluster up: $(sinfo -h -N -o '%N %c CPUs %T')"
@@ -91,4 +96,6 @@ leftovers=$(ls -A "$work/drill/out" | grep -c '\.tmp\.' || true)
 [ "$leftovers" = 0 ] || fail "temporary files left in out/: $(ls -A "$work/drill/out")"
 same_as_single "$work/drill"
 echo "3. drill: task 1 cancelled after $kept frames; the re-submitted array rendered only frames $written; all equal the single run"
-echo "farm test passed ($work)"
+echo "farm test passed"
+[ $own_work = 1 ] && rm -rf "$work"
+exit 0

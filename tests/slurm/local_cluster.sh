@@ -4,7 +4,8 @@
 # system Slurm is left alone. Clients find the cluster through SLURM_CONF. No system service is touched.
 #   cluster_start DIR   starts it and waits until the node is idle; returns 1 (with the logs on stderr) if it
 #                       cannot start
-#   cluster_stop        cancels every job, waits for them to end, stops the daemons, removes DIR (idempotent)
+#   cluster_stop        cancels every job, waits for them to end (20 s at most), stops the daemons (SIGTERM,
+#                       SIGKILL after 10 s), removes DIR (idempotent)
 
 cluster_log_tail() {
   local f
@@ -12,6 +13,7 @@ cluster_log_tail() {
 }
 
 cluster_start() {
+  [ -n "${1:-}" ] && [ -d "$1" ] || { echo "cluster_start: '${1:-}' is not a directory" >&2; return 1; }
   CLUSTER_DIR=$1
   mkdir -p "$CLUSTER_DIR"/{key,run,state,spool,log}
   # munged checks that its socket's directories are searchable by all and its key is private.
@@ -76,6 +78,7 @@ cluster_stop() {
     pid=$(cat "$CLUSTER_DIR/run/$pidfile.pid" 2>/dev/null) || continue
     kill "$pid" 2>/dev/null || continue
     for i in $(seq 40); do kill -0 "$pid" 2>/dev/null || break; sleep 0.25; done
+    kill -KILL "$pid" 2>/dev/null || true  # still there after 10 s
   done
   rm -rf "$CLUSTER_DIR"
   CLUSTER_DIR=
