@@ -230,6 +230,7 @@ bool InfiniteLightChoice::choose(double& u, SampledLight& out) const {
 }
 
 LightTreeSampler::LightTreeSampler(const LightList& lights) {
+  CHECK(lights.size() < kLeaf);  // a child holds kLeaf | light index
   std::vector<Entry> entries;
   entries.reserve(lights.size());
   std::vector<uint32_t> infinite;
@@ -259,6 +260,7 @@ uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint3
   CHECK(depth < kMaxDepth);
   max_depth_ = std::max(max_depth_, depth + 1);
   const uint32_t index = uint32_t(nodes_.size());
+  CHECK(index < kNoSlot / kTreeWidth);  // slot references node * 8 + slot fit in 32 bits, below kNoSlot
   nodes_.emplace_back();
   parent_.push_back(up);
   nodes_[index].count = uint32_t(count);
@@ -289,7 +291,7 @@ void LightTreeSampler::child_weights(const Node& node, const ShadingContext& ctx
   if (!(out.sum > 0.0 && std::isfinite(out.sum))) {
     for (uint32_t k = 0; k < node.count; ++k) out.weight[k] = node.bounds.phi[k];
     out.sum = accumulate();
-    if (!(out.sum > 0.0)) {
+    if (!(out.sum > 0.0 && std::isfinite(out.sum))) {
       for (uint32_t k = 0; k < node.count; ++k) out.weight[k] = 1.0f;
       out.sum = accumulate();
     }

@@ -7,7 +7,7 @@
 //
 // The tree is built binary (binned SAOH) and collapsed to 8 children per node, stored side by side
 // (wide_importance.h) so that one SIMD pass gives a level's 8 importances: a third of the binary tree's
-// levels (8 instead of about 24 over 1e6 lights of builtin:manylights), each one vector evaluation.
+// levels (7 instead of about 24 over 1e6 lights of builtin:manylights), each one vector evaluation.
 #include <algorithm>
 #include <vector>
 
