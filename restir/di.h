@@ -85,6 +85,17 @@ inline float di_area_pdf(const LightList& lights, uint32_t light) {
   return light < lights.triangle_count() ? 1.0f / lights.triangles()[light].area : 1.0f;
 }
 
+// A light candidate: the sample that uv places on the chosen light, and the area density it was drawn
+// with, pmf / area (pmf for delta lights; 0: no light chosen, and no sample).
+struct DiLightCandidate {
+  DiSample sample;
+  float p_light = 0.0f;
+};
+inline DiLightCandidate di_light_candidate(const Scene& scene, const LightList& lights, SampledLight chosen, vec2 uv) {
+  if (chosen.pmf <= 0.0f) return {};
+  return {di_resolve(scene, lights, chosen.index, uv), chosen.pmf * di_area_pdf(lights, chosen.index)};
+}
+
 // The unshadowed contribution of a light sample to a G-buffer pixel, in area measure:
 // f * L_e * |cos at the receiver| * |cos at the light| / d^2 (delta lights: f * I / d^2 * |cos|).
 // Uses the sample's stored point, which must be placed with the receiver's lights.

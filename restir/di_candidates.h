@@ -43,7 +43,7 @@ struct DiCandidateBatch {
 // uniform entry each), into the batch's slot and lanes.
 template <LightSampler S>
 void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                           const DiParams& params, int frame, size_t i, int slot, const LightTileEntry* tile,
+                           const DiParams& params, int frame, size_t i, int slot, const DiLightCandidate* tile,
                            DiCandidateBatch& batch) {
   DiCandidateBatch::Slot& b = batch.slot[slot];
   b.hit = g.hit(i);
@@ -58,35 +58,30 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
   b.receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
   batch.lanes.set(slot, b.target.position, b.target.geometric_normal, b.target.wo, b.target.bsdf.wo_terms(b.target.wo),
                   b.receiver.bsdf.wo_terms(b.receiver.wo));
-  if (tile) {
+  // Without a tile, the M_l lights in one call (the light tree shares its upper levels between them), each
+  // candidate's random numbers drawn in the order one candidate at a time would draw them.
+  if (!tile) {
     for (int k = 0; k < params.light_candidates; ++k) {
-      const size_t at = size_t(k) * kLaneSlots + size_t(slot);
-      const int size = params.light_tile_size;
-      const LightTileEntry& entry = tile[std::min(int(b.rng.next_float() * float(size)), size - 1)];
-      batch.u[at] = b.rng.next_float();
-      batch.p_light[at] = entry.p_light;
-      if (entry.p_light <= 0.0f) continue;
-      batch.sample[at] = entry.sample;
-      if (entry.sample.light < view.lights.triangle_count()) batch.planes[size_t(k)].set(slot, entry.sample.point);
+      batch.light_u[size_t(k)] = vec2(b.rng.next_float(), b.rng.next_float());
+      batch.light_uv[size_t(k)] = vec2(b.rng.next_float(), b.rng.next_float());
+      batch.u[size_t(k) * kLaneSlots + size_t(slot)] = b.rng.next_float();
     }
-    return;
+    sample_lights(sampler, b.ctx, batch.light_u.data(), batch.chosen.data(), params.light_candidates);
   }
-  // The M_l lights in one call (the light tree shares its upper levels between them), each candidate's
-  // random numbers drawn in the order one candidate at a time would draw them.
-  for (int k = 0; k < params.light_candidates; ++k) {
-    batch.light_u[size_t(k)] = vec2(b.rng.next_float(), b.rng.next_float());
-    batch.light_uv[size_t(k)] = vec2(b.rng.next_float(), b.rng.next_float());
-    batch.u[size_t(k) * kLaneSlots + size_t(slot)] = b.rng.next_float();
-  }
-  sample_lights(sampler, b.ctx, batch.light_u.data(), batch.chosen.data(), params.light_candidates);
   for (int k = 0; k < params.light_candidates; ++k) {
     const size_t at = size_t(k) * kLaneSlots + size_t(slot);
-    const SampledLight& chosen = batch.chosen[size_t(k)];
-    batch.p_light[at] = 0.0f;
-    if (chosen.pmf <= 0.0f) continue;
-    batch.sample[at] = di_resolve(view.scene, view.lights, chosen.index, batch.light_uv[size_t(k)]);
-    batch.p_light[at] = chosen.pmf * di_area_pdf(view.lights, chosen.index);
-    if (chosen.index < view.lights.triangle_count()) batch.planes[size_t(k)].set(slot, batch.sample[at].point);
+    DiLightCandidate c;
+    if (tile) {
+      const int size = params.light_tile_size;
+      c = tile[std::min(int(b.rng.next_float() * float(size)), size - 1)];
+      batch.u[at] = b.rng.next_float();
+    } else {
+      c = di_light_candidate(view.scene, view.lights, batch.chosen[size_t(k)], batch.light_uv[size_t(k)]);
+    }
+    batch.p_light[at] = c.p_light;
+    if (c.p_light <= 0.0f) continue;
+    batch.sample[at] = c.sample;
+    if (c.sample.light < view.lights.triangle_count()) batch.planes[size_t(k)].set(slot, c.sample.point);
   }
 }
 
@@ -197,7 +192,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t row = size_t(y) * size_t(g.width) + size_t(tile.x0);
       for (int s = 0; s < slots; ++s) {
-        const LightTileEntry* light_tile = tiles && !tiles->empty() ? tiles->tile(tile.x0 + s, y, frame) : nullptr;
+        const DiLightCandidate* light_tile = tiles ? tiles->tile(tile.x0 + s, y, frame) : nullptr;
         draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, light_tile, batch);
       }
       if (params.simd)

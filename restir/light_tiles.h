@@ -1,10 +1,10 @@
 #pragma once
 // Presampled light tiles (Wyman & Panteleev 2021, "Rearchitecting Spatiotemporal Resampling for
-// Production"; RTXDI ships them): once per frame, a few tiles of light samples are drawn from a context-free light
-// sampler (power or uniform), each entry holding everything a candidate needs (the light, the uniforms
-// that place the point on it, the point, and the density it was drawn with). A pixel reads the tile of its
-// screen block, so the candidate stage touches one contiguous tile instead of light records scattered
-// over the whole light list (on `city`, 104k emitting triangles).
+// Production"; RTXDI ships them): once per frame, a few tiles of light samples are drawn from a
+// context-free light sampler (power or uniform), each entry holding everything a candidate needs (a
+// DiLightCandidate: the light, the uniforms that place the point on it, the point, and the density it was
+// drawn with). A pixel reads the tile of its screen block, so the candidate stage touches one contiguous
+// tile instead of light records scattered over the whole light list (on `city`, 104k emitting triangles).
 //
 // Unbiasedness: every entry is drawn independently with density p_light(x) = pmf(light) / area (as a
 // direct draw would be), and a pixel picks entries uniformly, so each candidate is marginally distributed
@@ -19,11 +19,6 @@
 #include "samplers/simple_samplers.h"
 
 namespace candela {
-
-struct LightTileEntry {
-  DiSample sample;        // light, uv and the point they place
-  float p_light = 0.0f;   // area density it was drawn with: pmf * 1 / area (1 for delta lights)
-};
 
 // The samplers whose choice does not depend on the shading point: tiles drawn once serve every pixel.
 template <class S>
@@ -48,25 +43,21 @@ class LightTiles {
         Rng rng = Rng::for_key(seed, uint64_t(t) * uint64_t(size) + uint64_t(e), uint64_t(frame), 0x7e);
         SampledLight chosen = sampler.sample(anywhere, vec2(rng.next_float(), rng.next_float()));
         vec2 uv(rng.next_float(), rng.next_float());
-        LightTileEntry& entry = entries_[size_t(t) * size_t(size) + size_t(e)];
-        entry.p_light = chosen.pmf > 0.0f ? chosen.pmf * di_area_pdf(view.lights, chosen.index) : 0.0f;
-        if (entry.p_light > 0.0f) entry.sample = di_resolve(view.scene, view.lights, chosen.index, uv);
+        entries_[size_t(t) * size_t(size) + size_t(e)] = di_light_candidate(view.scene, view.lights, chosen, uv);
       }
     });
   }
 
-  bool empty() const { return entries_.empty(); }
-  int size() const { return size_; }
   // The tile of the screen block holding pixel (x, y) in frame `frame` (blocks take tiles in an order
   // shuffled per frame, so that one block's candidates differ from frame to frame).
-  const LightTileEntry* tile(int x, int y, int frame) const {
+  const DiLightCandidate* tile(int x, int y, int frame) const {
     const uint64_t block = uint64_t(y / kBlock) * 4096u + uint64_t(x / kBlock);
     return &entries_[size_t(mix64(block ^ mix64(uint64_t(frame) + 1)) % uint64_t(count_)) * size_t(size_)];
   }
 
  private:
   int count_ = 0, size_ = 0;
-  std::vector<LightTileEntry> entries_;
+  std::vector<DiLightCandidate> entries_;
 };
 
 }  // namespace candela
