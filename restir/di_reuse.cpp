@@ -1,6 +1,7 @@
 #include "restir/di_reuse.h"
 
 #include "engine/parallel.h"
+#include "restir/reuse_targets.h"
 
 namespace candela {
 
@@ -40,55 +41,63 @@ bool occluded_from(const SceneView& view, const DiReceiver& receiver, const Plac
   return view.tracer.occluded(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, ls));
 }
 
-// The inputs' pixels as receivers, each built on first use: the weights need a neighbour's receiver only
-// where they evaluate its target (pairwise MIS: only when the combining pixel has a sample of its own).
-// Storage is per thread: constructing an array of 32 receivers per pixel cost more than using them.
-class Receivers {
+// The inputs' target functions as the weights and the combination read them: p_z(y) for the sample y of
+// input `source`, from the values evaluate_reuse_targets found in lanes where the stage has them, else
+// evaluated here on the inputs' receivers, each built on first use (pairwise MIS needs a neighbour's
+// receiver only when the combining pixel has a sample of its own). Receiver storage is per thread:
+// constructing an array of 32 receivers per pixel cost more than using them.
+class InputTargets {
  public:
-  Receivers(const DiReuseInput* inputs, int count) : inputs_(inputs) {
-    thread_local std::vector<DiReceiver> storage(32);
+  InputTargets(const DiReuseInput* inputs, int count, const LaneTargets* lanes) : inputs_(inputs), lanes_(lanes) {
+    thread_local std::vector<DiReceiver> storage(kMaxReuseInputs);
     receivers_ = storage.data();
     std::fill(built_, built_ + count, false);
   }
-  const DiReceiver& operator[](int z) {
+  const DiReceiver& receiver(int z) {
     if (!built_[z]) receivers_[z] = di_receiver(*inputs_[z].domain, inputs_[z].pixel), built_[z] = true;
     return receivers_[z];
+  }
+  float at(const SceneView& view, int z, int source, const PlacedSample& y) {
+    if (lanes_ && z == 0 && (lanes_->known_at >> source & 1u)) return lanes_->at_combiner[source];
+    if (lanes_ && source == 0 && (lanes_->known_of >> z & 1u)) return lanes_->of_combiner[z];
+    return target_at(view, receiver(z), y);
   }
 
  private:
   const DiReuseInput* inputs_;
+  const LaneTargets* lanes_;
   DiReceiver* receivers_;
-  bool built_[32];
+  bool built_[kMaxReuseInputs];
 };
 
 // p_z(y): input z's target at sample y of input `source`, as the MIS weights use it. The combining
 // pixel's value (z = 0) is known already, and so is the source's own: the one its reservoir stored.
-float input_target(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int z, int source,
+float input_target(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int z, int source,
                    const PlacedSample& y, float p_hat_here) {
   if (z == 0) return p_hat_here;
   if (z == source) return inputs[source].reservoir->p_hat_y;
-  return target_at(view, receivers[z], y);
+  return targets.at(view, z, source, y);
 }
 
 // Whether y is visible from input z's surface: the spatial pass's answer for a source's own sample when
 // it has one, otherwise one shadow ray (counted in `rays`).
-bool input_sees(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int z, int source,
+bool input_sees(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int z, int source,
                 const PlacedSample& y, uint64_t& rays) {
   if (z == source && inputs[z].own_visible >= 0) return inputs[z].own_visible == 1;
   ++rays;
-  return !occluded_from(view, receivers[z], y);
+  return !occluded_from(view, targets.receiver(z), y);
 }
 
 // Generalized balance heuristic: m_k(y) = M_k p_k(y) / sum_z M_z p_z(y), for input k = `role` and y the
 // sample of input `source`. Evaluates every input's target, with `visibility` times the visibility of y
 // from each input's surface (Bitterli et al. 2020, sec. 4.3: unbiased also when reservoirs were
 // visibility-tested), tracing up to `count` rays.
-float basic_weight(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int count, int source,
+float basic_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int count, int source,
                    int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   float numerator = 0.0f, denominator = 0.0f;
   for (int z = 0; z < count; ++z) {
-    float p = input_target(view, inputs, receivers, z, source, y, p_hat_here);
-    if (visibility && p > 0.0f && !input_sees(view, inputs, receivers, z, source, y, rays)) p = 0.0f;
+    float p = input_target(view, inputs, targets, z, source, y, p_hat_here);
+    if (visibility && p > 0.0f && !input_sees(view, inputs, targets, z, source, y, rays)) p = 0.0f;
     float term = inputs[z].M * p;
     denominator += term;
     if (z == role) numerator = term;
@@ -110,14 +119,14 @@ float basic_weight(const SceneView& view, const DiReuseInput* inputs, Receivers&
 // they did darkened the image; using V_i in one formula only made the weights of a sample sum to more
 // than one, which temporal reuse amplified without bound (measured). p_c needs no visibility: where y is
 // occluded from the canonical pixel, it shades to zero whatever its weight.
-float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int count,
+float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int count,
                       int source, int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   const int n = count - 1;
   if (n == 0) return 1.0f;
   const float canonical = inputs[0].M / float(n) * p_hat_here;
   auto term = [&](int i) {
-    float t = inputs[i].M * input_target(view, inputs, receivers, i, source, y, p_hat_here);
-    return visibility && t > 0.0f && !input_sees(view, inputs, receivers, i, source, y, rays) ? 0.0f : t;
+    float t = inputs[i].M * input_target(view, inputs, targets, i, source, y, p_hat_here);
+    return visibility && t > 0.0f && !input_sees(view, inputs, targets, i, source, y, rays) ? 0.0f : t;
   };
   if (role > 0) {
     const float t = term(role);
@@ -133,7 +142,7 @@ float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, Receive
 
 // The weight m_role(y) of params.bias for the sample y of input `source`, placed for input 0 (where
 // input 0's target is p_hat_here).
-float mis_weight(const SceneView& view, const DiReuseInput* inputs, Receivers& receivers, int count, int source,
+float mis_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int count, int source,
                  int role, const PlacedSample& y, float p_hat_here, const DiReuseParams& params, uint64_t& rays) {
   switch (params.bias) {
     case DiBiasCorrection::None: {
@@ -142,9 +151,9 @@ float mis_weight(const SceneView& view, const DiReuseInput* inputs, Receivers& r
       return inputs[role].M / M_total;
     }
     case DiBiasCorrection::Basic:
-      return basic_weight(view, inputs, receivers, count, source, role, y, p_hat_here, params.mis_visibility, rays);
+      return basic_weight(view, inputs, targets, count, source, role, y, p_hat_here, params.mis_visibility, rays);
     case DiBiasCorrection::Pairwise:
-      return pairwise_weight(view, inputs, receivers, count, source, role, y, p_hat_here, params.mis_visibility, rays);
+      return pairwise_weight(view, inputs, targets, count, source, role, y, p_hat_here, params.mis_visibility, rays);
   }
   return 0.0f;
 }
@@ -173,12 +182,13 @@ float reconnection_jacobian(const LightPoint& sample, const vec3& here, const ve
 
 // Combines the inputs into one reservoir for the pixel of inputs[0] (the receiver's own reservoir); the
 // result's sample is placed in input 0's frame. The canonical input's target at its own sample is the one
-// its reservoir stored.
-DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count, const DiReuseParams& params, Rng& rng,
-                    uint64_t& rays) {
+// its reservoir stored; `lanes` (or null) holds targets evaluated beforehand.
+DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count, const DiReuseParams& params,
+                    const LaneTargets* lanes, Rng& rng, uint64_t& rays) {
   DiReservoir out;
-  Receivers receivers(inputs, count);
-  const LightList* here_lights = receivers[0].lights;
+  InputTargets targets(inputs, count, lanes);
+  const LightList* here_lights = &inputs[0].domain->lights;
+  const vec3& here_position = inputs[0].domain->surfaces[inputs[0].pixel].position;
   for (int k = 0; k < count; ++k) {
     const DiReuseInput& in = inputs[k];
     float u = rng.next_float();
@@ -186,29 +196,43 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
     if (in.reservoir->W <= 0.0f) continue;
     const DiSample& own = in.reservoir->y;
     if (k > 0 && own.light == kSurfacePointSample && params.max_jacobian > 0.0f &&
-        reconnection_jacobian(own.point, receivers[0].position, in.domain->surfaces[in.pixel].position) > params.max_jacobian)
+        reconnection_jacobian(own.point, here_position, in.domain->surfaces[in.pixel].position) > params.max_jacobian)
       continue;
     const DiSample here = placed_for_combiner(view, in, here_lights);
     const PlacedSample y{own, &in.domain->lights, here, here_lights};
-    float p_hat_here = k == 0 ? in.reservoir->p_hat_y : di_target(di_contribution(receivers[0], here));
-    float m = mis_weight(view, inputs, receivers, count, k, k, y, p_hat_here, params, rays);
+    float p_hat_here = k == 0 ? in.reservoir->p_hat_y : targets.at(view, 0, k, y);
+    float m = mis_weight(view, inputs, targets, count, k, k, y, p_hat_here, params, rays);
     out.update(here, m * p_hat_here * in.reservoir->W, p_hat_here, u);
   }
   out.finalize();
   return out;
 }
 
+// Combines every slot of a tile row (ReuseRow) into out[first + slot], with the targets evaluated in lanes
+// first where params.simd; `rng` gives each slot's random stream. Returns the rays traced.
+uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row, Rng* rng,
+                     size_t first, std::vector<DiReservoir>& out) {
+  if (params.simd) evaluate_reuse_targets(slots, params.bias != DiBiasCorrection::None, row);
+  uint64_t traced = 0;
+  for (int s = 0; s < slots; ++s)
+    if (row.count[s] > 0)
+      out[first + size_t(s)] = combine(view, row.inputs[s], row.count[s], params, params.simd ? &row.targets[s] : nullptr,
+                                       rng[s], traced);
+  return traced;
+}
+
 }  // namespace
 
 void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source, const DiReuseParams& params,
                     float* weights) {
-  Receivers receivers(inputs, count);
-  const DiSample here = placed_for_combiner(view, inputs[source], receivers[0].lights);
-  const PlacedSample y{inputs[source].reservoir->y, &inputs[source].domain->lights, here, receivers[0].lights};
-  const float p_hat_here = source == 0 ? inputs[0].reservoir->p_hat_y : di_target(di_contribution(receivers[0], here));
+  InputTargets targets(inputs, count, nullptr);
+  const LightList* here_lights = &inputs[0].domain->lights;
+  const DiSample here = placed_for_combiner(view, inputs[source], here_lights);
+  const PlacedSample y{inputs[source].reservoir->y, &inputs[source].domain->lights, here, here_lights};
+  const float p_hat_here = source == 0 ? inputs[0].reservoir->p_hat_y : targets.at(view, 0, source, y);
   uint64_t rays = 0;
   for (int role = 0; role < count; ++role)
-    weights[role] = mis_weight(view, inputs, receivers, count, source, role, y, p_hat_here, params, rays);
+    weights[role] = mis_weight(view, inputs, targets, count, source, role, y, p_hat_here, params, rays);
 }
 
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
@@ -218,30 +242,53 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
   out = reservoirs;
   history_pixel.assign(g.size(), -1);
   if (history.size() != g.size() || previous.surfaces.size() != g.size()) return;
-  for_each_pixel(g.width, g.height, rays, [&](size_t i, int x, int y) -> uint64_t {
-    if (!g.hit(i) || current.surfaces[i].roughness() < params.min_roughness) return 0;
-    // Last frame's pixel under this pixel's surface point (motion starts at the jittered film position).
+  // Last frame's pixel under pixel i's surface point, or -1: reprojected with the motion vectors (which
+  // start at the jittered film position), and only where that pixel's surface is similar.
+  auto reprojected = [&](size_t i, int x, int y) -> int64_t {
+    if (!g.hit(i) || current.surfaces[i].roughness() < params.min_roughness) return -1;
     vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
-    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return 0;
+    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return -1;
     int px = int(p.x), py = int(p.y);
     if (params.permutation_sampling) {
       uint64_t pattern = mix64(params.seed ^ uint64_t(frame));
       px ^= int(pattern & 1);
       py ^= int((pattern >> 1) & 1);
     }
-    if (px < 0 || py < 0 || px >= g.width || py >= g.height) return 0;
+    if (px < 0 || py < 0 || px >= g.width || py >= g.height) return -1;
     size_t j = size_t(py) * g.width + px;
-    if (!similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params)) return 0;
-    DiReservoir aged = history[j];
-    aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));
-    if (params.max_sample_age > 0 && aged.y.age > params.max_sample_age) return 0;
-    Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
-    DiReuseInput inputs[2] = {{&reservoirs[i], &current, i, reservoirs[i].M},
-                            {&aged, &previous, j, std::min(aged.M, params.history_cap * reservoirs[i].M)}};
+    return similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params) ? int64_t(j) : -1;
+  };
+  // Per tile row: each pixel's pair of inputs (its reservoir and its history, aged by a frame), then the
+  // row's combinations.
+  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+    struct Batch {
+      ReuseRow row;
+      DiReservoir aged[kLaneSlots];
+      Rng rng[kLaneSlots];
+    };
+    thread_local Batch batch;
+    const int slots = tile.x1 - tile.x0;
     uint64_t traced = 0;
-    out[i] = combine(view, inputs, 2, params, rng, traced);
-    history_pixel[i] = int32_t(j);
-    return traced;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
+      for (int s = 0; s < slots; ++s) {
+        const size_t i = first + size_t(s);
+        batch.row.count[s] = 0;
+        const int64_t j = reprojected(i, tile.x0 + s, y);
+        if (j < 0) continue;
+        DiReservoir& aged = batch.aged[s];
+        aged = history[size_t(j)];
+        aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));
+        if (params.max_sample_age > 0 && aged.y.age > params.max_sample_age) continue;
+        batch.rng[s] = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
+        batch.row.inputs[s][0] = {&reservoirs[i], &current, i, reservoirs[i].M};
+        batch.row.inputs[s][1] = {&aged, &previous, size_t(j), std::min(aged.M, params.history_cap * reservoirs[i].M)};
+        batch.row.count[s] = 2;
+        history_pixel[i] = int32_t(j);
+      }
+      traced += combine_row(view, params, slots, batch.row, batch.rng, first, out);
+    }
+    rays.add(traced);
   });
 }
 
@@ -278,21 +325,18 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   // Neighbours: uniform points in the disk of the given radius, by rejection from the square (no
   // trigonometry), drawn with the pixel's random stream, and their surfaces and reservoirs prefetched.
   struct Drawn {
-    bool active = false;
-    Rng rng;
     int count = 0;
-    size_t pixels[32];
+    size_t pixels[kMaxReuseInputs];
   };
-  auto draw = [&](size_t i, int x, int y, Drawn& d) {
+  auto draw = [&](size_t i, int x, int y, Rng& rng, Drawn& d) {
     d.count = 0;
-    d.active = surfaces[i].hit() && surfaces[i].roughness() >= params.min_roughness;
-    if (!d.active) return;
+    if (!surfaces[i].hit() || surfaces[i].roughness() < params.min_roughness) return;
     const int neighbours = boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
-    const int max_inputs = 1 + std::clamp(neighbours, 0, 31);
-    d.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
+    const int max_inputs = 1 + std::clamp(neighbours, 0, kMaxReuseInputs - 1);
+    rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
     for (int k = 1; k < max_inputs; ++k) {
       vec2 u;
-      do u = vec2(d.rng.next_float(), d.rng.next_float()) * 2.0f - 1.0f;
+      do u = vec2(rng.next_float(), rng.next_float()) * 2.0f - 1.0f;
       while (glm::dot(u, u) > 1.0f);
       int nx = x + round_nearest(params.spatial_radius * u.x), ny = y + round_nearest(params.spatial_radius * u.y);
       if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
@@ -303,11 +347,10 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       d.pixels[d.count++] = j;
     }
   };
-  // The pixel's similar neighbours combined with it.
-  auto reuse = [&](size_t i, Drawn& d) -> uint64_t {
-    if (!d.active) return 0;
-    DiReuseInput inputs[32];
-    int count = 0;
+  // The pixel and its similar neighbours, as the inputs of its combination (none without a surface).
+  auto select = [&](size_t i, const Drawn& d, int& count, DiReuseInput* inputs) {
+    count = 0;
+    if (!surfaces[i].hit() || surfaces[i].roughness() < params.min_roughness) return;
     inputs[count++] = {&in[i], &current, i, in[i].M};
     const vec3 n = surfaces[i].shading_n();
     for (int c = 0; c < d.count; ++c) {
@@ -315,24 +358,24 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       if (similar(surfaces[i], n, surfaces[j], params))
         inputs[count++] = {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
     }
-    uint64_t traced = 0;
-    out[i] = combine(view, inputs, count, params, d.rng, traced);
-    return traced;
   };
-  // Each pixel's neighbours are drawn one pixel ahead of its combination, so that the cache misses of
-  // their surfaces and reservoirs (the planes of the 33 rows within the radius exceed L2) overlap the
-  // previous pixel's work instead of stalling its own.
+  // Per tile row: every pixel's neighbours drawn first (so that the cache misses of their surfaces and
+  // reservoirs, the planes of the 33 rows within the radius exceeding L2, overlap), then selected, then
+  // the row's combinations.
   for_each_tile(width, height, [&](const Tile& tile) {
+    struct Batch {
+      ReuseRow row;
+      Drawn drawn[kLaneSlots];
+      Rng rng[kLaneSlots];
+    };
+    thread_local Batch batch;
+    const int slots = tile.x1 - tile.x0;
     uint64_t traced = 0;
-    Drawn drawn[2];
     for (int y = tile.y0; y < tile.y1; ++y) {
-      const size_t row = size_t(y) * size_t(width);
-      draw(row + size_t(tile.x0), tile.x0, y, drawn[0]);
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        const int now = (x - tile.x0) & 1;
-        if (x + 1 < tile.x1) draw(row + size_t(x + 1), x + 1, y, drawn[now ^ 1]);
-        traced += reuse(row + size_t(x), drawn[now]);
-      }
+      const size_t first = size_t(y) * size_t(width) + size_t(tile.x0);
+      for (int s = 0; s < slots; ++s) draw(first + size_t(s), tile.x0 + s, y, batch.rng[s], batch.drawn[s]);
+      for (int s = 0; s < slots; ++s) select(first + size_t(s), batch.drawn[s], batch.row.count[s], batch.row.inputs[s]);
+      traced += combine_row(view, params, slots, batch.row, batch.rng, first, out);
     }
     rays.add(traced);
   });

@@ -46,6 +46,8 @@ struct DiReuseParams {
                                   // Jacobian (Ouyang et al. 2021, eq. 11: the ratio of its solid angle per area
                                   // seen from this pixel to that from its own) exceeds this is rejected. Biased
                                   // (drops the samples that would be fireflies); 0: unbiased
+  bool simd = true;               // evaluate the combinations' targets in SIMD lanes (reuse_targets.h); false: the
+                                  // scalar reference, which gives the same bits
   uint64_t seed = 0;
 };
 

@@ -1,31 +1,18 @@
 // The candidate-lanes kernel (target_lanes.h), compiled once per instruction set by Highway's
-// foreach_target.h and dispatched at run time. Each step names the scalar function whose arithmetic it
-// repeats, in the same order (restir/di.h di_contribution, engine/lights.h light_sample_towards,
+// foreach_target.h and dispatched at run time (helpers shared with the receiver kernel: lanes-inl.h).
+// Each step names the scalar function whose arithmetic it repeats, in the same order (restir/di.h di_contribution, engine/lights.h light_sample_towards,
 // engine/bsdf.cpp Bsdf::eval and Bsdf::pdf, engine/ggx_albedo.h GgxAlbedoRow::at).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "restir/target_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 #include "restir/target_lanes.h"
+#include "restir/lanes-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace candela {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-using D = hn::ScalableTag<float>;
-using V = hn::Vec<D>;
-using M = hn::Mask<D>;
-
-struct V3 {
-  V x, y, z;
-};
-
-V3 load3(D d, const float* x, const float* y, const float* z, int s) {
-  return {hn::Load(d, x + s), hn::Load(d, y + s), hn::Load(d, z + s)};
-}
-// glm::dot: (a.x b.x + a.y b.y) + a.z b.z.
-V dot(const V3& a, const V3& b) { return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z)); }
 
 // ggx_d_half_vector (engine/bsdf.cpp): D(h) for the unnormalised half vector hv.
 V ggx_d_half_vector(D d, const V3& n, const V3& hv, V alpha) {
@@ -36,25 +23,6 @@ V ggx_d_half_vector(D d, const V3& n, const V3& hv, V alpha) {
   const V den = hn::Add(hn::Mul(hn::Mul(a2, c), c), dot(s, s));
   const V value = hn::Div(hn::Mul(hn::Mul(a2, len2), len2), hn::Mul(hn::Mul(hn::Set(d, kPi), den), den));
   return hn::IfThenElseZero(hn::And(hn::Gt(c, hn::Zero(d)), hn::Gt(den, hn::Zero(d))), value);
-}
-
-// GgxAlbedoRow::at: the (a, b) albedo pair at cos_theta, bilinear in sqrt(mu) and roughness.
-void albedo_at(D d, V cos_theta, hn::Vec<hn::RebindToSigned<D>> row, V weight, V& a, V& b) {
-  const hn::RebindToSigned<D> di;
-  const V x = hn::Mul(hn::Sqrt(hn::Min(hn::Max(cos_theta, hn::Zero(d)), hn::Set(d, 1.0f))),
-                      hn::Set(d, float(kGgxAlbedoMuCount - 1)));
-  const auto j = hn::Min(hn::ConvertTo(di, x), hn::Set(di, kGgxAlbedoMuCount - 2));
-  const V s = hn::Sub(x, hn::ConvertTo(d, j));
-  const auto i0 = hn::Add(row, hn::Add(j, j)), i1 = hn::Add(i0, hn::Set(di, 2 * kGgxAlbedoMuCount));
-  auto at = [&](hn::Vec<hn::RebindToSigned<D>> i, int k) {
-    return hn::GatherIndex(d, kGgxAlbedoEntries, hn::Add(i, hn::Set(di, k)));
-  };
-  const V a00 = at(i0, 0), b00 = at(i0, 1), a01 = at(i0, 2), b01 = at(i0, 3);
-  const V a10 = at(i1, 0), b10 = at(i1, 1), a11 = at(i1, 2), b11 = at(i1, 3);
-  const V a0 = hn::Add(a00, hn::Mul(s, hn::Sub(a01, a00))), b0 = hn::Add(b00, hn::Mul(s, hn::Sub(b01, b00)));
-  const V a1 = hn::Add(a10, hn::Mul(s, hn::Sub(a11, a10))), b1 = hn::Add(b10, hn::Mul(s, hn::Sub(b11, b10)));
-  a = hn::Add(a0, hn::Mul(weight, hn::Sub(a1, a0)));
-  b = hn::Add(b0, hn::Mul(weight, hn::Sub(b1, b0)));
 }
 
 // Bsdf::eval(wo, wi) times |n.wi|, channel c returned in f[c], for the terms of one plane set.

@@ -1,4 +1,4 @@
-// ReSTIR DI's light candidates in SIMD lanes (restir/target_lanes.h) against the scalar reference
+// ReSTIR's SIMD lanes (restir/target_lanes.h, receiver_lanes.h, reuse_targets.h) against the scalar reference
 // (di_contribution, Bsdf::eval, Bsdf::pdf): the kernel repeats the scalar operations in the same order
 // without fused multiply-adds, so the bound is exact equality (0 ulp), for p_hat and the BSDF's area
 // density alike (where p_hat > 0, the only place it is read); a kernel that fused a multiply-add or reordered a sum fails here.
@@ -11,6 +11,7 @@
 #include "engine/builtin_scenes.h"
 #include "engine/simd_targets.h"
 #include "restir/di_candidates.h"
+#include "restir/receiver_lanes.h"
 #include "tests/render_helpers.h"
 #include "tests/test_util.h"
 
@@ -94,33 +95,122 @@ TEST(TargetLanes, KernelGivesTheScalarBitsOnRandomInputs) {
   EXPECT_GT(positive, compared / 10) << "too few lit candidates to test anything";
 }
 
-// The whole stage on rendered frames: the reservoirs of a restir-di frame are the same bits with the
-// kernel as with the scalar path, on manylights, the Cornell box and city, after 3 frames of reuse.
+// Receivers built in lanes from random packed surfaces (normals all over the octahedron, every material
+// byte including the extremes, the eye on either side) against di_receiver and Bsdf::wo_terms: every plane
+// the target evaluation reads holds the scalar bits (bound: 0 ulp).
+TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
+  const Scene scene = make_cornell_scene();
+  const LightList lights(scene);
+  Rng rng(777, 3);
+  auto byte = [&] {
+    const float u = rng.next_float();
+    return u < 0.1f ? 0u : u < 0.2f ? 255u : uint32_t(rng.next_float() * 256.0f) & 255u;
+  };
+  std::vector<DiSurface> surfaces(kLaneSlots);
+  auto lanes = std::make_unique<ReceiverLanes>(), scalar = std::make_unique<ReceiverLanes>();
+  auto packed = std::make_unique<SurfaceLanes>();
+  int compared = 0, lit = 0;
+  std::string targets;
+  for (int batch = 0; batch < 100; ++batch) {
+    const vec3 eye = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 6.0f;
+    for (int s = 0; s < kLaneSlots; ++s) {
+      DiSurface& surface = surfaces[size_t(s)];
+      surface.position = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 4.0f;
+      surface.depth = 1.0f;
+      surface.shading_normal = oct_encode(random_unit(rng));
+      surface.geometric_normal = oct_encode(random_unit(rng));
+      surface.albedo = byte() | byte() << 8 | byte() << 16;
+      surface.material = byte() | byte() << 8 | byte() << 16 | byte() << 24;
+      packed->set(s, surface);
+    }
+    const DiDomain domain{surfaces, kLaneSlots, 1, eye, lights};
+    for (int s = 0; s < kLaneSlots; ++s) {
+      const DiReceiver r = di_receiver(domain, size_t(s));
+      const BsdfWoTerms t = r.bsdf.wo_terms(r.wo);
+      scalar->set(s, r.position, r.geometric_normal, r.wo, t, t);
+      lit += t.cos_o > 0.0f;
+    }
+    for_each_simd_target([&](const char* target) {
+      if (batch == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
+      build_receiver_lanes(*packed, eye, kLaneSlots, *lanes);
+      for (int s = 0; s < kLaneSlots; ++s) {
+        const ReceiverLanes::BsdfPlanes &a = lanes->target, &b = scalar->target;
+        const std::pair<const char*, std::pair<float, float>> fields[] = {
+            {"px", {lanes->px[s], scalar->px[s]}}, {"py", {lanes->py[s], scalar->py[s]}},
+            {"pz", {lanes->pz[s], scalar->pz[s]}}, {"gx", {lanes->gx[s], scalar->gx[s]}},
+            {"gy", {lanes->gy[s], scalar->gy[s]}}, {"gz", {lanes->gz[s], scalar->gz[s]}},
+            {"wox", {lanes->wox[s], scalar->wox[s]}}, {"woy", {lanes->woy[s], scalar->woy[s]}},
+            {"woz", {lanes->woz[s], scalar->woz[s]}}, {"nx", {a.nx[s], b.nx[s]}}, {"ny", {a.ny[s], b.ny[s]}},
+            {"nz", {a.nz[s], b.nz[s]}}, {"cos_o", {a.cos_o[s], b.cos_o[s]}}, {"alpha", {a.alpha[s], b.alpha[s]}},
+            {"s_o", {a.s_o[s], b.s_o[s]}}, {"f0.r", {a.f0[0][s], b.f0[0][s]}}, {"f0.g", {a.f0[1][s], b.f0[1][s]}},
+            {"f0.b", {a.f0[2][s], b.f0[2][s]}}, {"f90", {a.f90[s], b.f90[s]}}, {"ms.r", {a.ms[0][s], b.ms[0][s]}},
+            {"ms.g", {a.ms[1][s], b.ms[1][s]}}, {"ms.b", {a.ms[2][s], b.ms[2][s]}}, {"ms_o", {a.ms_o[s], b.ms_o[s]}},
+            {"base_o.r", {a.base_o[0][s], b.base_o[0][s]}}, {"base_o.g", {a.base_o[1][s], b.base_o[1][s]}},
+            {"base_o.b", {a.base_o[2][s], b.base_o[2][s]}}, {"d_f0", {a.d_f0[0][s], b.d_f0[0][s]}},
+            {"d_ms", {a.d_ms[0][s], b.d_ms[0][s]}}, {"d_f90", {a.d_f90[s], b.d_f90[s]}},
+            {"albedo_weight", {a.albedo_weight[s], b.albedo_weight[s]}}};
+        for (const auto& [name, values] : fields) {
+          ++compared;
+          EXPECT_TRUE(same_bits(values.first, values.second))
+              << target << ", " << name << ", batch " << batch << " slot " << s << ": lanes " << values.first
+              << ", scalar " << values.second;
+        }
+        for (int c = 1; c < 3; ++c)
+          EXPECT_TRUE(same_bits(a.d_f0[c][s], b.d_f0[c][s]) && same_bits(a.d_ms[c][s], b.d_ms[c][s])) << target << " slot " << s;
+        EXPECT_EQ(a.albedo_row[s], b.albedo_row[s]) << target << ", albedo row, batch " << batch << " slot " << s;
+      }
+    });
+    if (::testing::Test::HasFailure()) break;
+  }
+  std::printf("  %d receiver terms compared (%d receivers lit from the eye's side) on %s\n", compared, lit, targets.c_str());
+  EXPECT_GT(lit, 100 * kLaneSlots / 4) << "too few receivers facing the eye to test the wo terms";
+}
+
+// The whole chain on rendered frames: the reservoirs after 3 frames of candidates and reuse are the same
+// bits with the lanes (candidates, and the targets of temporal and spatial reuse) as with the scalar path,
+// on manylights, the Cornell box and city (whose lights and camera move: history placed by other lights), for ReSTIR DI alone and with ReSTIR GI (whose reuse shares the
+// code), with pairwise and basic MIS.
 TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
-  for (const char* name : {"manylights", "cornell", "city"}) {
-    std::vector<DiReservoir> result[2];
+  struct Case {
+    const char* scene;
+    Method method;
+    DiBiasCorrection bias;
+  };
+  for (const Case& c : {Case{"manylights", Method::RestirDi, DiBiasCorrection::Pairwise},
+                        Case{"cornell", Method::RestirDi, DiBiasCorrection::Pairwise},
+                        Case{"city", Method::RestirDi, DiBiasCorrection::Pairwise},
+                        Case{"manylights", Method::RestirDi, DiBiasCorrection::Basic},
+                        Case{"cornell", Method::Restir, DiBiasCorrection::Pairwise}}) {
+    std::vector<DiReservoir> result[2], gi[2];
     for (int simd = 0; simd < 2; ++simd) {
       RenderSettings settings;
       settings.width = 96;
       settings.height = 64;
-      settings.method = Method::RestirDi;
-      settings.di.simd = simd == 1;
-      Scene scene = make_builtin_scene(name);
+      settings.method = c.method;
+      settings.di.simd = settings.di_reuse.simd = settings.gi_reuse.simd = simd == 1;
+      settings.di_reuse.bias = c.bias;
+      Scene scene = make_builtin_scene(c.scene);
       const CameraDesc camera = scene.default_camera();
       Renderer renderer(std::move(scene), settings);
-      for (int frame = 0; frame < 3; ++frame) testing::render_checked(renderer, frame, 0.0f, camera);
+      for (int frame = 0; frame < 3; ++frame) testing::render_checked(renderer, frame, 0.1f * float(frame), camera);
       result[simd] = renderer.di_reservoirs();
+      gi[simd] = renderer.gi_reservoirs();
     }
-    ASSERT_EQ(result[0].size(), result[1].size());
-    int with_sample = 0;
-    for (size_t i = 0; i < result[0].size(); ++i) {
-      const DiReservoir &a = result[0][i], &b = result[1][i];
-      with_sample += a.W > 0.0f;
-      ASSERT_TRUE(a.y.light == b.y.light && a.y.uv == b.y.uv && same_bits(a.W, b.W) && same_bits(a.p_hat_y, b.p_hat_y) &&
-                  same_bits(a.M, b.M))
-          << name << " pixel " << i << ": W " << a.W << " / " << b.W << ", light " << a.y.light << " / " << b.y.light;
+    for (auto* r : {result, gi}) {
+      ASSERT_EQ(r[0].size(), r[1].size());
+      int with_sample = 0;
+      for (size_t i = 0; i < r[0].size(); ++i) {
+        const DiReservoir &a = r[0][i], &b = r[1][i];
+        with_sample += a.W > 0.0f;
+        ASSERT_TRUE(a.y.light == b.y.light && a.y.uv == b.y.uv && same_bits(a.W, b.W) &&
+                    same_bits(a.p_hat_y, b.p_hat_y) && same_bits(a.M, b.M))
+            << c.scene << (r == gi ? " GI" : " DI") << " pixel " << i << ": W " << a.W << " / " << b.W << ", light "
+            << a.y.light << " / " << b.y.light;
+      }
+      if (r == result || c.method == Method::Restir) {
+        EXPECT_GT(with_sample, int(r[0].size()) / 4) << c.scene;
+      }
     }
-    EXPECT_GT(with_sample, int(result[0].size()) / 4) << name;
   }
 }
 

@@ -1,0 +1,72 @@
+// Highway helpers shared by ReSTIR's SIMD kernels (target_lanes.cpp, receiver_lanes.cpp): vectors of
+// 3-vectors and the scalar code's dot product and GGX albedo lookup, each repeating the scalar operations in
+// the same order so that the kernels keep the scalar code's bits. Included once per instruction set by
+// each kernel's foreach_target.h pass, hence the toggling include guard (Highway's "-inl.h" convention).
+#if defined(CANDELA_RESTIR_LANES_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef CANDELA_RESTIR_LANES_INL_H_
+#undef CANDELA_RESTIR_LANES_INL_H_
+#else
+#define CANDELA_RESTIR_LANES_INL_H_
+#endif
+
+#include "engine/ggx_albedo.h"
+#include "hwy/highway.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace candela {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using D = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<D>;
+using V = hn::Vec<D>;
+using VI = hn::Vec<DI>;
+using M = hn::Mask<D>;
+
+struct V3 {
+  V x, y, z;
+};
+
+inline V3 load3(D d, const float* x, const float* y, const float* z, int s) {
+  return {hn::Load(d, x + s), hn::Load(d, y + s), hn::Load(d, z + s)};
+}
+inline void store3(D d, const V3& v, float* x, float* y, float* z, int s) {
+  hn::Store(v.x, d, x + s), hn::Store(v.y, d, y + s), hn::Store(v.z, d, z + s);
+}
+// glm::dot: (a.x b.x + a.y b.y) + a.z b.z.
+inline V dot(const V3& a, const V3& b) {
+  return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
+}
+// glm::normalize: v * (1 / sqrt(dot(v, v))).
+inline V3 normalize(D d, const V3& v) {
+  const V inv = hn::Div(hn::Set(d, 1.0f), hn::Sqrt(dot(v, v)));
+  return {hn::Mul(v.x, inv), hn::Mul(v.y, inv), hn::Mul(v.z, inv)};
+}
+// std::max(x, c) and std::min(x, c) (x86's max and min return their second operand unless the first is
+// greater, or smaller: putting c first keeps std's result also for -0 and NaN).
+inline V max_of(V x, V c) { return hn::Max(c, x); }
+inline V min_of(V x, V c) { return hn::Min(c, x); }
+
+// GgxAlbedoRow::at: the (a, b) albedo pair at cos_theta, bilinear in sqrt(mu) and roughness, from the
+// row offset and weight of the receiver's roughness.
+inline void albedo_at(D d, V cos_theta, VI row, V weight, V& a, V& b) {
+  const DI di;
+  const V x = hn::Mul(hn::Sqrt(min_of(max_of(cos_theta, hn::Zero(d)), hn::Set(d, 1.0f))),
+                      hn::Set(d, float(kGgxAlbedoMuCount - 1)));
+  const VI j = hn::Min(hn::ConvertTo(di, x), hn::Set(di, kGgxAlbedoMuCount - 2));
+  const V s = hn::Sub(x, hn::ConvertTo(d, j));
+  const VI i0 = hn::Add(row, hn::Add(j, j)), i1 = hn::Add(i0, hn::Set(di, 2 * kGgxAlbedoMuCount));
+  auto at = [&](VI i, int k) { return hn::GatherIndex(d, kGgxAlbedoEntries, hn::Add(i, hn::Set(di, k))); };
+  const V a00 = at(i0, 0), b00 = at(i0, 1), a01 = at(i0, 2), b01 = at(i0, 3);
+  const V a10 = at(i1, 0), b10 = at(i1, 1), a11 = at(i1, 2), b11 = at(i1, 3);
+  const V a0 = hn::Add(a00, hn::Mul(s, hn::Sub(a01, a00))), b0 = hn::Add(b00, hn::Mul(s, hn::Sub(b01, b00)));
+  const V a1 = hn::Add(a10, hn::Mul(s, hn::Sub(a11, a10))), b1 = hn::Add(b10, hn::Mul(s, hn::Sub(b11, b10)));
+  a = hn::Add(a0, hn::Mul(weight, hn::Sub(a1, a0)));
+  b = hn::Add(b0, hn::Mul(weight, hn::Sub(b1, b0)));
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace candela
+HWY_AFTER_NAMESPACE();
+
+#endif  // include guard

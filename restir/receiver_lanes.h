@@ -1,0 +1,31 @@
+#pragma once
+// ReSTIR DI's receivers built in SIMD lanes: the receiver of a packed surface (di_receiver: decoded normals,
+// direction to the eye and the BSDF of the packed material) with the wo terms of its BSDF, for up to a
+// tile row of surfaces at once. Reuse evaluates each neighbour's receiver against one or two samples only,
+// so building it costs as much as evaluating it: in lanes, both are cheap. The kernel repeats the scalar
+// code's operations in order (oct_decode, glm::normalize, DiSurface::bsdf, the Bsdf constructor and
+// Bsdf::wo_terms), so it gives their bits (tests/test_target_lanes.cpp).
+#include "restir/di_surface.h"
+#include "restir/target_lanes.h"
+
+namespace candela {
+
+// Packed surfaces gathered into one plane per field (slot s: one surface; set() transposes).
+struct SurfaceLanes {
+  alignas(64) float px[kLaneSlots], py[kLaneSlots], pz[kLaneSlots];
+  alignas(64) uint32_t shading_normal[kLaneSlots], geometric_normal[kLaneSlots];
+  alignas(64) uint32_t albedo[kLaneSlots], material[kLaneSlots];
+  void set(int slot, const DiSurface& s) {
+    px[slot] = s.position.x, py[slot] = s.position.y, pz[slot] = s.position.z;
+    shading_normal[slot] = s.shading_normal, geometric_normal[slot] = s.geometric_normal;
+    albedo[slot] = s.albedo, material[slot] = s.material;
+  }
+};
+
+// Slots [0, slots) of `out`: position, geometric normal, wo and the `target` BSDF planes of the receivers
+// of `surfaces` seen from `eye`, except the two terms only Bsdf::pdf reads (g1_o and p_specular are left 0):
+// evaluate_candidate_lanes may read these receivers without with_bsdf_pdf. A slot holding an empty surface
+// (no hit) gets a receiver too: callers leave its candidates inactive. Cost per receiver: ~150 flops and 4 table gathers, in lanes.
+void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out);
+
+}  // namespace candela

@@ -1,0 +1,42 @@
+#pragma once
+// The target function values that reuse reads, evaluated in SIMD lanes for a tile row of combinations at
+// once (one pixel per lane) before the combinations run. A combination (di_reuse.cpp) resamples each input
+// k's sample y_k at the combining pixel (input 0), which needs p_0(y_k), and with pairwise MIS weighs the
+// combining pixel's own sample by every other input's target, p_k(y_0): 2 evaluations per input, each at
+// a receiver that is used for nothing else. Scalar, every one rebuilt the receiver from its packed surface
+// and evaluated it alone; here the receivers are built in lanes (receiver_lanes.h) and evaluated in lanes
+// (target_lanes.h), with the scalar code's bits. What the lanes cannot take (punctual lights, samples that
+// must be re-placed for moving lights, and basic MIS's other pairs) is left to the combination, which
+// evaluates it as before.
+#include <cstdint>
+
+#include "restir/di_reuse.h"
+#include "restir/target_lanes.h"
+
+namespace candela {
+
+inline constexpr int kMaxReuseInputs = 32;  // a pixel and up to 31 neighbours
+
+// One combination's targets evaluated beforehand: bit k of `known_at` says at_combiner[k] = p_0(y_k) was
+// evaluated, bit k of `known_of` that of_combiner[k] = p_k(y_0) was.
+struct LaneTargets {
+  uint32_t known_at = 0, known_of = 0;
+  float at_combiner[kMaxReuseInputs];
+  float of_combiner[kMaxReuseInputs];
+};
+
+// One tile row of combinations: slot s combines inputs[s][0..count[s]) (input 0: the pixel of the slot);
+// every slot's input k (k >= 1) comes from the same domain, and all inputs 0 from the same one.
+struct ReuseRow {
+  int count[kLaneSlots];
+  DiReuseInput inputs[kLaneSlots][kMaxReuseInputs];
+  LaneTargets targets[kLaneSlots];
+};
+
+// Fills row.targets of slots [0, slots): p_0(y_k) for every input k >= 1 with a sample, and with
+// `of_combiner` (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a sample. Cost per
+// slot and input: 2 receiver builds and 2 target evaluations in lanes, plus transposing surfaces and samples
+// into planes.
+void evaluate_reuse_targets(int slots, bool of_combiner, ReuseRow& row);
+
+}  // namespace candela
