@@ -7,7 +7,7 @@
 
 #include "restir/di.h"
 #include "restir/light_tiles.h"
-#include "restir/target_lanes.h"
+#include "restir/receiver_lanes.h"
 
 namespace candela {
 
@@ -15,14 +15,25 @@ namespace candela {
 // context, and per light candidate k the drawn sample, its light-sampling density and resampling uniform,
 // beside the lanes the evaluation reads and writes.
 struct DiCandidateBatch {
+  SurfaceLanes surfaces;  // the slots' packed surfaces, from which the lanes' receivers are built
   ReceiverLanes lanes;
   std::vector<CandidateLanes> planes;  // one per light candidate
   struct Slot {
     bool hit = false;
+    size_t pixel = 0;
     Rng rng;
-    DiReceiver target, receiver;   // packed (targets) and exact (BSDF sampling, densities, visibility)
+    DiReceiver receiver;  // exact (BSDF sampling, densities, visibility)
+    DiReceiver target;    // packed (targets), built by target() on first use where the lanes evaluate the
+                          // light candidates
+    bool target_built = false;
     ShadingContext ctx;
   } slot[kLaneSlots];
+  // The packed receiver of a slot, for the targets the lanes do not evaluate (BSDF candidates, punctual
+  // lights).
+  const DiReceiver& target(const DiDomain& domain, int s) {
+    if (!slot[s].target_built) slot[s].target = di_receiver(domain, slot[s].pixel), slot[s].target_built = true;
+    return slot[s].target;
+  }
   std::vector<DiSample> sample;   // [k * kLaneSlots + slot]
   std::vector<float> p_light, u;  // light-sampling area density (0: no light chosen), resampling uniform
   // BSDF candidate k of each slot: its direction sample (pdf 0: none, no ray), resampling uniform and hit.
@@ -47,17 +58,19 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
                            DiCandidateBatch& batch) {
   DiCandidateBatch::Slot& b = batch.slot[slot];
   b.hit = g.hit(i);
+  b.pixel = i;
+  b.target_built = false;
   for (int k = 0; k < params.light_candidates; ++k) batch.planes[size_t(k)].clear(slot);
+  batch.surfaces.set(slot, domain.surfaces[i]);
   if (!b.hit) {
-    batch.lanes.clear(slot);
+    batch.lanes.exact.set(slot, BsdfWoTerms{});
     return;
   }
   b.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
   b.ctx = ShadingContext{g.position[i], g.shading_normal[i]};
-  b.target = di_receiver(domain, i);
   b.receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
-  batch.lanes.set(slot, b.target.position, b.target.geometric_normal, b.target.wo, b.target.bsdf.wo_terms(b.target.wo),
-                  b.receiver.bsdf.wo_terms(b.receiver.wo));
+  if (params.simd) batch.lanes.exact.set(slot, b.receiver.bsdf.wo_terms(b.receiver.wo));
+  else batch.target(domain, slot);  // the scalar reference evaluates every candidate on it
   // Without a tile, the M_l lights in one call (the light tree shares its upper levels between them), each
   // candidate's random numbers drawn in the order one candidate at a time would draw them.
   if (!tile) {
@@ -124,8 +137,8 @@ uint64_t trace_bsdf_candidates(const SceneView& view, const DiParams& params, in
 // reaches the pixel only through the BSDF candidates: their plain estimate of it goes to `unsampled`.
 // With candidate_visibility, one shadow ray to the kept sample. Returns the rays traced.
 template <LightSampler S>
-uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiParams& params, int slot,
-                             DiCandidateBatch& batch, DiReservoir& r, vec3& unsampled) {
+uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiDomain& domain, const DiParams& params,
+                             int slot, DiCandidateBatch& batch, DiReservoir& r, vec3& unsampled) {
   DiCandidateBatch::Slot& b = batch.slot[slot];
   if (!b.hit) return 0;
   const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
@@ -135,8 +148,7 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiPa
     const DiSample& s = batch.sample[at];
     float p_hat = batch.planes[size_t(k)].p_hat[slot], p_bsdf = batch.planes[size_t(k)].bsdf_area_pdf[slot];
     if (s.light >= view.lights.triangle_count()) {  // punctual: not in the lanes
-      DiContribution c = di_contribution(b.target, s);
-      p_hat = di_target(c);
+      p_hat = di_target(di_contribution(batch.target(domain, slot), s));
       p_bsdf = 0.0f;
     }
     if (p_hat <= 0.0f) continue;
@@ -158,7 +170,7 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiPa
       continue;
     }
     DiSample s = di_sample_at(view.scene, view.lights, uint32_t(light), hit.barycentric);
-    DiContribution c = di_contribution(b.target, s);
+    DiContribution c = di_contribution(batch.target(domain, slot), s);
     float p_hat = di_target(c);
     if (p_hat <= 0.0f) continue;
     float p_light = sampler.pmf(b.ctx, uint32_t(light)) * di_area_pdf(view.lights, uint32_t(light));
@@ -195,14 +207,16 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
         const DiLightCandidate* light_tile = tiles ? tiles->tile(tile.x0 + s, y, frame) : nullptr;
         draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, light_tile, batch);
       }
-      if (params.simd)
+      if (params.simd) {
+        build_receiver_lanes(batch.surfaces, domain.eye, slots, batch.lanes);
         evaluate_candidate_lanes(batch.lanes, batch.planes.data(), params.light_candidates, slots, params.bsdf_candidates > 0);
-      else
+      } else {
         evaluate_candidates_scalar(params, slots, batch);
+      }
       for (int s = 0; s < slots; ++s) draw_bsdf_candidates(params, s, batch);
       traced += trace_bsdf_candidates(view, params, slots, batch);
       for (int s = 0; s < slots; ++s)
-        traced += resample_candidates(view, sampler, params, s, batch, out[row + s], unsampled[row + s]);
+        traced += resample_candidates(view, sampler, domain, params, s, batch, out[row + s], unsampled[row + s]);
     }
     rays.add(traced);
   });

@@ -148,8 +148,6 @@ void ReceiverLanes::set(int s, const vec3& p, const vec3& ng, const vec3& wo, co
   exact.set(s, exact_bsdf);
 }
 
-void ReceiverLanes::clear(int s) { set(s, vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), vec3(0.0f, 0.0f, 1.0f), {}, {}); }
-
 void CandidateLanes::set(int s, const LightPoint& point) {
   x[s] = point.position.x, y[s] = point.position.y, z[s] = point.position.z;
   nx[s] = point.normal.x, ny[s] = point.normal.y, nz[s] = point.normal.z;

@@ -19,8 +19,8 @@ namespace candela {
 inline constexpr int kLaneSlots = kTileWidth;  // pixels per batch: one tile row
 
 // Per pixel of a batch, what the target function and the BSDF density need of the receiver: the packed
-// surface's point, normals, direction to the eye and BSDF terms (the target), and the exact G-buffer
-// BSDF's terms (the density of BSDF sampling). Slots without a surface have cos_o = 0.
+// surface's point, normals, direction to the eye and BSDF terms (the target; build_receiver_lanes in
+// receiver_lanes.h fills them), and the exact G-buffer BSDF's terms (the density of BSDF sampling).
 struct ReceiverLanes {
   alignas(64) float px[kLaneSlots], py[kLaneSlots], pz[kLaneSlots];
   alignas(64) float gx[kLaneSlots], gy[kLaneSlots], gz[kLaneSlots];  // geometric normal
@@ -35,10 +35,10 @@ struct ReceiverLanes {
     void set(int slot, const BsdfWoTerms& t);
   };
   BsdfPlanes target, exact;
-  // Slot `slot`: the receiver at p (geometric normal ng) seen along wo, with the two BSDFs' terms.
+  // Slot `slot`: the receiver at p (geometric normal ng) seen along wo, with the two BSDFs' terms, one
+  // scalar at a time (the tests' reference for the kernels).
   void set(int slot, const vec3& p, const vec3& ng, const vec3& wo, const BsdfWoTerms& target_bsdf,
            const BsdfWoTerms& exact_bsdf);
-  void clear(int slot);  // no surface: every candidate evaluates to 0
 };
 
 // Candidate k of every pixel of a batch: a point on a triangle light (position, normal, radiance and
