@@ -91,9 +91,13 @@ struct DiLightCandidate {
   DiSample sample;
   float p_light = 0.0f;
 };
+// The area density of a chosen light's sample: pmf / area (pmf for delta lights; 0: no light chosen).
+inline float di_light_pdf(const LightList& lights, SampledLight chosen) {
+  return chosen.pmf > 0.0f ? chosen.pmf * di_area_pdf(lights, chosen.index) : 0.0f;
+}
 inline DiLightCandidate di_light_candidate(const Scene& scene, const LightList& lights, SampledLight chosen, vec2 uv) {
   if (chosen.pmf <= 0.0f) return {};
-  return {di_resolve(scene, lights, chosen.index, uv), chosen.pmf * di_area_pdf(lights, chosen.index)};
+  return {di_resolve(scene, lights, chosen.index, uv), di_light_pdf(lights, chosen)};
 }
 
 // The unshadowed contribution of a light sample to a G-buffer pixel, in area measure:

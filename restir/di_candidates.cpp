@@ -5,7 +5,8 @@ namespace candela {
 void DiCandidateBatch::resize(int light_candidates, int bsdf_candidates) {
   const size_t k = size_t(std::max(light_candidates, 0));
   planes.resize(k);
-  sample.resize(k * kLaneSlots);
+  light.resize(k * kLaneSlots);
+  uv.resize(k * kLaneSlots);
   p_light.resize(k * kLaneSlots);
   u.resize(k * kLaneSlots);
   light_u.resize(k);
@@ -37,7 +38,7 @@ void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBa
     for (int s = 0; s < slots; ++s) {
       if (plane.active[s] == 0.0f) continue;
       const DiCandidateBatch::Slot& b = batch.slot[s];
-      DiContribution c = di_contribution(b.target, batch.sample[size_t(k) * kLaneSlots + size_t(s)]);
+      DiContribution c = di_contribution(b.target, batch.candidate(*b.target.lights, k, s));
       plane.p_hat[s] = di_target(c);
       plane.bsdf_area_pdf[s] = di_bsdf_area_pdf(b.receiver, c, params.bsdf_candidates);
     }

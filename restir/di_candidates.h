@@ -34,7 +34,10 @@ struct DiCandidateBatch {
     if (!slot[s].target_built) slot[s].target = di_receiver(domain, slot[s].pixel), slot[s].target_built = true;
     return slot[s].target;
   }
-  std::vector<DiSample> sample;   // [k * kLaneSlots + slot]
+  // Light candidate k of a slot, at [k * kLaneSlots + slot]: the chosen light and the uniforms that place
+  // the point on it (which, for a triangle light, planes[k] holds).
+  std::vector<uint32_t> light;
+  std::vector<vec2> uv;
   std::vector<float> p_light, u;  // light-sampling area density (0: no light chosen), resampling uniform
   // BSDF candidate k of each slot: its direction sample (pdf 0: none, no ray), resampling uniform and hit.
   struct BsdfCandidate {
@@ -47,6 +50,11 @@ struct DiCandidateBatch {
   std::vector<vec2> light_u, light_uv;
   std::vector<SampledLight> chosen;
   void resize(int light_candidates, int bsdf_candidates);
+  // Light candidate k of slot s as a sample.
+  DiSample candidate(const LightList& lights, int k, int s) const {
+    const size_t at = size_t(k) * kLaneSlots + size_t(s);
+    return {light[at], uv[at], light[at] < lights.triangle_count() ? planes[size_t(k)].point(s) : LightPoint{}, 0};
+  }
 };
 
 // Stage "di_candidates", part 1 (per pixel): the pixel's receivers, its M_l light candidates drawn from
@@ -81,20 +89,26 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     }
     sample_lights(sampler, b.ctx, batch.light_u.data(), batch.chosen.data(), params.light_candidates);
   }
+  // Each candidate's light, uniforms and density into the batch and its point straight into the lanes
+  // (assembling a whole DiSample first and copying it cost more than placing the point: store forwarding).
   for (int k = 0; k < params.light_candidates; ++k) {
     const size_t at = size_t(k) * kLaneSlots + size_t(slot);
-    DiLightCandidate c;
+    CandidateLanes& plane = batch.planes[size_t(k)];
     if (tile) {
       const int size = params.light_tile_size;
-      c = tile[std::min(int(b.rng.next_float() * float(size)), size - 1)];
+      const DiLightCandidate& c = tile[std::min(int(b.rng.next_float() * float(size)), size - 1)];
       batch.u[at] = b.rng.next_float();
-    } else {
-      c = di_light_candidate(view.scene, view.lights, batch.chosen[size_t(k)], batch.light_uv[size_t(k)]);
+      batch.p_light[at] = c.p_light;
+      batch.light[at] = c.sample.light, batch.uv[at] = c.sample.uv;
+      if (c.p_light > 0.0f && c.sample.light < view.lights.triangle_count()) plane.set(slot, c.sample.point);
+      continue;
     }
-    batch.p_light[at] = c.p_light;
-    if (c.p_light <= 0.0f) continue;
-    batch.sample[at] = c.sample;
-    if (c.sample.light < view.lights.triangle_count()) batch.planes[size_t(k)].set(slot, c.sample.point);
+    const SampledLight chosen = batch.chosen[size_t(k)];
+    batch.p_light[at] = di_light_pdf(view.lights, chosen);
+    if (batch.p_light[at] <= 0.0f) continue;
+    batch.light[at] = chosen.index, batch.uv[at] = batch.light_uv[size_t(k)];
+    if (chosen.index < view.lights.triangle_count())
+      plane.set(slot, view.lights.triangle_point(view.scene, chosen.index, batch.uv[at]));
   }
 }
 
@@ -145,7 +159,7 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiDo
   for (int k = 0; k < params.light_candidates; ++k) {
     const size_t at = size_t(k) * kLaneSlots + size_t(slot);
     if (batch.p_light[at] <= 0.0f) continue;
-    const DiSample& s = batch.sample[at];
+    const DiSample s = batch.candidate(view.lights, k, slot);
     float p_hat = batch.planes[size_t(k)].p_hat[slot], p_bsdf = batch.planes[size_t(k)].bsdf_area_pdf[slot];
     if (s.light >= view.lights.triangle_count()) {  // punctual: not in the lanes
       p_hat = di_target(di_contribution(batch.target(domain, slot), s));

@@ -156,6 +156,11 @@ void CandidateLanes::set(int s, const LightPoint& point) {
   active[s] = 1.0f;
 }
 
+LightPoint CandidateLanes::point(int s) const {
+  return {vec3(x[s], y[s], z[s]), vec3(nx[s], ny[s], nz[s]), vec3(radiance[0][s], radiance[1][s], radiance[2][s]),
+          two_sided[s] > 0.0f};
+}
+
 void CandidateLanes::clear(int s) {
   set(s, LightPoint{vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), vec3(0.0f), false});
   active[s] = 0.0f;

@@ -51,6 +51,7 @@ struct CandidateLanes {
   alignas(64) float p_hat[kLaneSlots], bsdf_area_pdf[kLaneSlots];
   void set(int slot, const LightPoint& point);
   void clear(int slot);  // not a triangle-light point: p_hat and density left to the caller
+  LightPoint point(int slot) const;  // the point set() stored
 };
 
 // The kernel: p_hat and (with_bsdf_pdf) the BSDF area density of every active candidate of slots

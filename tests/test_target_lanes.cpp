@@ -62,7 +62,7 @@ TEST(TargetLanes, KernelGivesTheScalarBitsOnRandomInputs) {
                          vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 10.0f, rng.next_float() < 0.3f};
         if (k == 0 && s % 16 == 0) point.position = p;           // at the receiver: no direction
         if (k == 1 && s % 16 == 1) point.radiance = vec3(0.0f);  // black
-        lanes->sample[at] = DiSample{0, vec2(0.0f), point, 0};
+        lanes->light[at] = 0, lanes->uv[at] = vec2(0.0f);
         lanes->p_light[at] = 1.0f;
         lanes->planes[size_t(k)].set(s, point);
       }
