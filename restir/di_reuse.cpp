@@ -212,7 +212,7 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
 // first where params.simd; `rng` gives each slot's random stream. Returns the rays traced.
 uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row, Rng* rng,
                      size_t first, std::vector<DiReservoir>& out) {
-  if (params.simd) evaluate_reuse_targets(slots, params.bias != DiBiasCorrection::None, row);
+  if (params.simd) evaluate_reuse_targets(view.scene, slots, params.bias != DiBiasCorrection::None, row);
   uint64_t traced = 0;
   for (int s = 0; s < slots; ++s)
     if (row.count[s] > 0)

@@ -9,12 +9,17 @@ namespace candela {
 
 namespace {
 
-// Whether input `in`'s sample evaluates in lanes at receivers whose frame placed the lights as `lights`
-// did: a point it stores (a triangle light placed by the same light list, or a surface point).
-bool lane_sample(const DiReuseInput& in, const LightList& lights) {
+// Slot s of `plane`: input `in`'s sample as receivers whose frame placed the lights as `lights` did see it
+// (PlacedSample::at in di_reuse.cpp): the point it stores where its own frame placed them alike, or where it
+// is a surface point; otherwise the point its uniforms give on its light as `lights` placed it. Inactive
+// where the input has no sample and for punctual lights (left to the scalar path).
+void set_placed(const Scene& scene, const DiReuseInput& in, const LightList& lights, int s, CandidateLanes& plane) {
   const DiSample& y = in.reservoir->y;
-  if (in.reservoir->W <= 0.0f) return false;
-  return y.light == kSurfacePointSample || (&in.domain->lights == &lights && y.light < lights.triangle_count());
+  if (in.reservoir->W <= 0.0f) plane.clear(s);
+  else if (y.light == kSurfacePointSample || (&in.domain->lights == &lights && y.light < lights.triangle_count()))
+    plane.set(s, y.point);
+  else if (y.light < lights.triangle_count()) plane.set(s, lights.triangle_point(scene, y.light, y.uv));
+  else plane.clear(s);
 }
 
 static_assert(kLaneSlots <= 64, "a row's slots fit the bits of a uint64_t");
@@ -29,7 +34,7 @@ struct Planes {
 
 }  // namespace
 
-void evaluate_reuse_targets(int slots, bool of_combiner, ReuseRow& row) {
+void evaluate_reuse_targets(const Scene& scene, int slots, bool of_combiner, ReuseRow& row) {
   thread_local Planes planes;
   int max_count = 0;
   const DiDomain* here = nullptr;
@@ -39,14 +44,13 @@ void evaluate_reuse_targets(int slots, bool of_combiner, ReuseRow& row) {
     if (row.count[s] > 0) here = row.inputs[s][0].domain;
   }
   if (max_count < 2) return;
-  // The combining pixels' receivers; every input's sample placed in plane k (inactive where it has none,
-  // or the lanes cannot evaluate it); p_0(y_k) of all of them in one call.
+  // The combining pixels' receivers; every input's sample placed in plane k (inactive where the slot has
+  // no input k); p_0(y_k) of all of them in one call.
   for (int s = 0; s < slots; ++s) {
     const DiReuseInput* in = row.inputs[s];
     planes.surfaces.set(s, here->surfaces[row.count[s] > 0 ? in[0].pixel : 0]);
     for (int k = 1; k < max_count; ++k) {
-      const bool lanes = k < row.count[s] && lane_sample(in[k], here->lights);
-      if (lanes) planes.inputs[k].set(s, in[k].reservoir->y.point);
+      if (k < row.count[s]) set_placed(scene, in[k], here->lights, s, planes.inputs[k]);
       else planes.inputs[k].clear(s);
     }
   }
@@ -59,13 +63,9 @@ void evaluate_reuse_targets(int slots, bool of_combiner, ReuseRow& row) {
         row.targets[s].known_at |= 1u << k;
       }
   if (!of_combiner) return;
-  // The combining pixels' own samples at each input k's receivers, one receiver plane per k (a sample that
-  // input k's frame placed elsewhere, for moving lights, is left to the scalar path).
-  for (int s = 0; s < slots; ++s) {
-    const bool lanes = row.count[s] > 1 && lane_sample(row.inputs[s][0], here->lights);
-    if (lanes) planes.own.set(s, row.inputs[s][0].reservoir->y.point);
-    else planes.own.clear(s);
-  }
+  // The combining pixels' own samples at each input k's receivers, one receiver plane per k, placed as
+  // input k's frame placed the lights.
+  const LightList* own_placed_by = nullptr;
   for (int k = 1; k < max_count; ++k) {
     const DiDomain* domain = nullptr;
     for (int s = 0; s < slots; ++s) {
@@ -76,16 +76,17 @@ void evaluate_reuse_targets(int slots, bool of_combiner, ReuseRow& row) {
       }
       planes.surfaces.set(s, has ? row.inputs[s][k].domain->surfaces[row.inputs[s][k].pixel] : DiSurface{});
     }
-    uint64_t usable = 0;  // bit s: slot s reads the result
-    for (int s = 0; s < slots; ++s)
-      if (k < row.count[s] && planes.own.active[s] > 0.0f &&
-          (&domain->lights == &here->lights || row.inputs[s][0].reservoir->y.light == kSurfacePointSample))
-        usable |= uint64_t(1) << s;
-    if (usable == 0) continue;
+    if (own_placed_by != &domain->lights) {
+      for (int s = 0; s < slots; ++s) {
+        if (row.count[s] > 1) set_placed(scene, row.inputs[s][0], domain->lights, s, planes.own);
+        else planes.own.clear(s);
+      }
+      own_placed_by = &domain->lights;
+    }
     build_receiver_lanes(planes.surfaces, domain->eye, slots, planes.others);
     evaluate_candidate_lanes(planes.others, &planes.own, 1, slots, false);
     for (int s = 0; s < slots; ++s)
-      if (usable >> s & 1u) {
+      if (k < row.count[s] && planes.own.active[s] > 0.0f) {
         row.targets[s].of_combiner[k] = planes.own.p_hat[s];
         row.targets[s].known_of |= 1u << k;
       }

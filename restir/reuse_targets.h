@@ -5,11 +5,12 @@
 // combining pixel's own sample by every other input's target, p_k(y_0): 2 evaluations per input, each at
 // a receiver that is used for nothing else. Scalar, every one rebuilt the receiver from its packed surface
 // and evaluated it alone; here the receivers are built in lanes (receiver_lanes.h) and evaluated in lanes
-// (target_lanes.h), with the scalar code's bits. What the lanes cannot take (punctual lights, samples that
-// must be re-placed for moving lights, and basic MIS's other pairs) is left to the combination, which
-// evaluates it as before.
+// (target_lanes.h), with the scalar code's bits. Samples whose lights moved since their frame are
+// re-placed here as the combination would re-place them. What the lanes cannot take (punctual lights and
+// basic MIS's other pairs) is left to the combination, which evaluates it as before.
 #include <cstdint>
 
+#include "engine/scene.h"
 #include "restir/di_reuse.h"
 #include "restir/target_lanes.h"
 
@@ -36,7 +37,7 @@ struct ReuseRow {
 // Fills row.targets of slots [0, slots): p_0(y_k) for every input k >= 1 with a sample, and with
 // `of_combiner` (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a sample. Cost per
 // slot and input: 2 receiver builds and 2 target evaluations in lanes, plus transposing surfaces and samples
-// into planes.
-void evaluate_reuse_targets(int slots, bool of_combiner, ReuseRow& row);
+// into planes (and placing a moved light's sample on it again).
+void evaluate_reuse_targets(const Scene& scene, int slots, bool of_combiner, ReuseRow& row);
 
 }  // namespace candela
