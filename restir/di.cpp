@@ -4,8 +4,7 @@ namespace candela {
 
 DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
   DiContribution c;
-  const bool stored_point = s.light < r.lights->triangle_count() || s.light == kSurfacePointSample;
-  c.light = stored_point ? light_sample_towards(s.point, r.position) : r.lights->sample_punctual(s.light, r.position);
+  c.light = di_light_sample(*r.lights, r.position, s);
   const LightSample& ls = c.light;
   if (max_component(ls.radiance) <= 0.0f || glm::dot(ls.wi, r.geometric_normal) <= 0.0f) return c;
   vec3 f = r.bsdf.eval(r.wo, ls.wi) * std::abs(glm::dot(ls.wi, r.shading_normal));

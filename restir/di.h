@@ -100,6 +100,18 @@ inline DiLightCandidate di_light_candidate(const Scene& scene, const LightList& 
   return {di_resolve(scene, lights, chosen.index, uv), di_light_pdf(lights, chosen)};
 }
 
+// The light sample that sample s gives at point p (direction, distance, its point's normal and radiance):
+// the stored point's, or for a punctual light the one `lights` places. A shadow ray needs nothing else.
+inline LightSample di_light_sample(const LightList& lights, const vec3& p, const DiSample& s) {
+  const bool stored_point = s.light < lights.triangle_count() || s.light == kSurfacePointSample;
+  return stored_point ? light_sample_towards(s.point, p) : lights.sample_punctual(s.light, p);
+}
+
+// The shadow ray from a packed surface, of a frame whose lights are `lights`, to sample s placed by them.
+inline Ray di_shadow_ray(const Tracer& tracer, const DiSurface& surface, const LightList& lights, const DiSample& s) {
+  return shadow_ray(tracer, surface.position, surface.geometric_n(), di_light_sample(lights, surface.position, s));
+}
+
 // The unshadowed contribution of a light sample to a G-buffer pixel, in area measure:
 // f * L_e * |cos at the receiver| * |cos at the light| / d^2 (delta lights: f * I / d^2 * |cos|).
 // Uses the sample's stored point, which must be placed with the receiver's lights.

@@ -21,24 +21,24 @@ struct PlacedSample {
   const LightList* own_lights;
   const DiSample& here;  // placed for the combining pixel (input 0)
   const LightList* here_lights;
-  const DiSample& at(const DiReceiver& receiver, const Scene& scene, DiSample& scratch) const {
-    if (receiver.lights == here_lights) return here;
-    if (receiver.lights == own_lights || own.light == kSurfacePointSample) return own;
-    scratch = di_resolve(scene, *receiver.lights, own.light, own.uv);
+  const DiSample& at(const LightList* lights, const Scene& scene, DiSample& scratch) const {
+    if (lights == here_lights) return here;
+    if (lights == own_lights || own.light == kSurfacePointSample) return own;
+    scratch = di_resolve(scene, *lights, own.light, own.uv);
     return scratch;
   }
 };
 
 float target_at(const SceneView& view, const DiReceiver& receiver, const PlacedSample& y) {
   DiSample scratch;
-  return di_target(di_contribution(receiver, y.at(receiver, view.scene, scratch)));
+  return di_target(di_contribution(receiver, y.at(receiver.lights, view.scene, scratch)));
 }
 
-// Whether the receiver's surface does not see the sample (one shadow ray, against this frame's geometry).
-bool occluded_from(const SceneView& view, const DiReceiver& receiver, const PlacedSample& y) {
+// Whether input z's surface does not see the sample (one shadow ray, against this frame's geometry).
+bool occluded_from(const SceneView& view, const DiReuseInput& z, const PlacedSample& y) {
   DiSample scratch;
-  LightSample ls = di_contribution(receiver, y.at(receiver, view.scene, scratch)).light;
-  return view.tracer.occluded(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, ls));
+  const DiSample& placed = y.at(&z.domain->lights, view.scene, scratch);
+  return view.tracer.occluded(di_shadow_ray(view.tracer, z.domain->surfaces[z.pixel], z.domain->lights, placed));
 }
 
 // The inputs' target functions as the weights and the combination read them: p_z(y) for the sample y of
@@ -62,6 +62,11 @@ class InputTargets {
     if (lanes_ && source == 0 && (lanes_->known_of >> z & 1u)) return lanes_->of_combiner[z];
     return target_at(view, receiver(z), y);
   }
+  // Whether the combining pixel's sample is visible from input z, where it was traced beforehand (-1: it
+  // was not).
+  int combiner_visible_from(int z) const {
+    return lanes_ && (lanes_->known_visible >> z & 1u) ? int(lanes_->visible >> z & 1u) : -1;
+  }
 
  private:
   const DiReuseInput* inputs_;
@@ -80,12 +85,13 @@ float input_target(const SceneView& view, const DiReuseInput* inputs, InputTarge
 }
 
 // Whether y is visible from input z's surface: the spatial pass's answer for a source's own sample when
-// it has one, otherwise one shadow ray (counted in `rays`).
+// it has one, or the row's for the combining pixel's sample, otherwise one shadow ray (counted in `rays`).
 bool input_sees(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int z, int source,
                 const PlacedSample& y, uint64_t& rays) {
   if (z == source && inputs[z].own_visible >= 0) return inputs[z].own_visible == 1;
+  if (const int known = source == 0 ? targets.combiner_visible_from(z) : -1; known >= 0) return known == 1;
   ++rays;
-  return !occluded_from(view, targets.receiver(z), y);
+  return !occluded_from(view, inputs[z], y);
 }
 
 // Generalized balance heuristic: m_k(y) = M_k p_k(y) / sum_z M_z p_z(y), for input k = `role` and y the
@@ -212,8 +218,8 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
 // first where params.simd; `rng` gives each slot's random stream. Returns the rays traced.
 uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row, Rng* rng,
                      size_t first, std::vector<DiReservoir>& out) {
-  if (params.simd) evaluate_reuse_targets(view.scene, slots, params.bias != DiBiasCorrection::None, row);
-  uint64_t traced = 0;
+  const bool weights = params.bias != DiBiasCorrection::None;
+  uint64_t traced = params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
   for (int s = 0; s < slots; ++s)
     if (row.count[s] > 0)
       out[first + size_t(s)] = combine(view, row.inputs[s], row.count[s], params, params.simd ? &row.targets[s] : nullptr,
@@ -314,9 +320,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         for (int x = tile.x0; x < tile.x1; ++x) {
           const size_t j = size_t(y) * size_t(width) + size_t(x);
           if (!surfaces[j].hit() || in[j].W <= 0.0f || in[j].p_hat_y <= 0.0f) continue;
-          const DiReceiver receiver = di_receiver(current, j);
-          const LightSample ls = di_contribution(receiver, in[j].y).light;
-          queue.add(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, ls), j);
+          queue.add(di_shadow_ray(view.tracer, surfaces[j], current.lights, in[j].y), j);
         }
       queue.finish();
       rays.add(queue.traced());

@@ -34,16 +34,17 @@ struct Planes {
 
 }  // namespace
 
-void evaluate_reuse_targets(const Scene& scene, int slots, bool of_combiner, ReuseRow& row) {
+uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combiner, bool visibility, ReuseRow& row) {
   thread_local Planes planes;
+  const Scene& scene = view.scene;
   int max_count = 0;
   const DiDomain* here = nullptr;
   for (int s = 0; s < slots; ++s) {
-    row.targets[s].known_at = row.targets[s].known_of = 0;
+    row.targets[s].known_at = row.targets[s].known_of = row.targets[s].known_visible = row.targets[s].visible = 0;
     max_count = std::max(max_count, row.count[s]);
     if (row.count[s] > 0) here = row.inputs[s][0].domain;
   }
-  if (max_count < 2) return;
+  if (max_count < 2) return 0;
   // The combining pixels' receivers; every input's sample placed in plane k (inactive where the slot has
   // no input k); p_0(y_k) of all of them in one call.
   for (int s = 0; s < slots; ++s) {
@@ -62,7 +63,15 @@ void evaluate_reuse_targets(const Scene& scene, int slots, bool of_combiner, Reu
         row.targets[s].at_combiner[k] = planes.inputs[k].p_hat[s];
         row.targets[s].known_at |= 1u << k;
       }
-  if (!of_combiner) return;
+  if (!of_combiner) return 0;
+  // Shadow rays from input k's surface to y_0, where its weight reads that: the answer goes to bit k of
+  // the slot's `visible`.
+  auto answer = [&](uint32_t tag, const RayPacket16& packet, int lane) {
+    LaneTargets& t = row.targets[tag >> 8];
+    t.known_visible |= 1u << (tag & 255u);
+    if (!Tracer::occluded_lane(packet, lane)) t.visible |= 1u << (tag & 255u);
+  };
+  auto queue = ray_queue16<uint32_t>(view.tracer, RayQuery::Occluded, answer);
   // The combining pixels' own samples at each input k's receivers, one receiver plane per k, placed as
   // input k's frame placed the lights.
   const LightList* own_placed_by = nullptr;
@@ -89,8 +98,15 @@ void evaluate_reuse_targets(const Scene& scene, int slots, bool of_combiner, Reu
       if (k < row.count[s] && planes.own.active[s] > 0.0f) {
         row.targets[s].of_combiner[k] = planes.own.p_hat[s];
         row.targets[s].known_of |= 1u << k;
+        if (!visibility || planes.own.p_hat[s] <= 0.0f) continue;
+        const DiSurface& from = domain->surfaces[row.inputs[s][k].pixel];
+        // y_0 as placed for input k: a stored point (kSurfacePointSample: use the point as it is).
+        const DiSample y{kSurfacePointSample, vec2(0.0f), planes.own.point(s), 0};
+        queue.add(di_shadow_ray(view.tracer, from, domain->lights, y), uint32_t(s) << 8 | uint32_t(k));
       }
   }
+  queue.finish();
+  return queue.traced();
 }
 
 }  // namespace candela

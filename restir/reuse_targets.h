@@ -19,9 +19,10 @@ namespace candela {
 inline constexpr int kMaxReuseInputs = 32;  // a pixel and up to 31 neighbours
 
 // One combination's targets evaluated beforehand: bit k of `known_at` says at_combiner[k] = p_0(y_k) was
-// evaluated, bit k of `known_of` that of_combiner[k] = p_k(y_0) was.
+// evaluated, bit k of `known_of` that of_combiner[k] = p_k(y_0) was, and bit k of `known_visible` that bit
+// k of `visible` says whether y_0 is visible from input k's surface.
 struct LaneTargets {
-  uint32_t known_at = 0, known_of = 0;
+  uint32_t known_at = 0, known_of = 0, known_visible = 0, visible = 0;
   float at_combiner[kMaxReuseInputs];
   float of_combiner[kMaxReuseInputs];
 };
@@ -34,10 +35,12 @@ struct ReuseRow {
   LaneTargets targets[kLaneSlots];
 };
 
-// Fills row.targets of slots [0, slots): p_0(y_k) for every input k >= 1 with a sample, and with
-// `of_combiner` (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a sample. Cost per
+// Fills row.targets of slots [0, slots): p_0(y_k) for every input k >= 1 with a sample, with `of_combiner`
+// (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a sample, and with `visibility`
+// (MIS weights with visibility) whether y_0 is visible from input k's surface where p_k(y_0) > 0. Cost per
 // slot and input: 2 receiver builds and 2 target evaluations in lanes, plus transposing surfaces and samples
-// into planes (and placing a moved light's sample on it again).
-void evaluate_reuse_targets(const Scene& scene, int slots, bool of_combiner, ReuseRow& row);
+// into planes (and placing a moved light's sample on it again), and with visibility one shadow ray, traced
+// in packets of 16 in slot order. Returns the rays traced.
+uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combiner, bool visibility, ReuseRow& row);
 
 }  // namespace candela
