@@ -92,6 +92,10 @@ void add_reuse_options(CLI::App& render, const std::string& prefix, const std::s
                     doc("reuse last frame's final shadow-ray verdict where a pixel keeps its temporal history's "
                         "sample, for at most this many frames in a row (0 = off; biased where occluders move)"))
       ->check(CLI::Range(0, 255))->capture_default_str();
+  render.add_flag(name("drop-occluded") + ",!" + name("keep-occluded"), p.drop_occluded,
+                  doc("a reservoir whose sample the shading found occluded drops it before it becomes history "
+                      "(--" + prefix + "-keep-occluded: keep it; default: " + (p.drop_occluded ? "drop" : "keep") +
+                      "; dropping is biased at shadow edges and where occluders move)"));
   render.add_flag(name("permutation"), p.permutation_sampling,
                   doc("permutation sampling of the previous frame (decorrelates frames for a denoiser)"));
   render.add_option(name("history-cap"), p.history_cap,

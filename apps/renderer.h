@@ -39,6 +39,7 @@ inline DiReuseParams default_gi_reuse() {
   p.min_roughness = 0.2f;
   p.max_sample_age = 30;
   p.mis_visibility = true;  // GI samples are visible from their own pixel by construction
+  p.drop_occluded = false;  // with visibility in the weights, an occluded history sample has no weight already
   return p;
 }
 

@@ -186,6 +186,7 @@ void read_reuse_params(ObjectReader& r, const std::string& prefix, DiReuseParams
   p.disocclusion_neighbours = r.integer(key("disocclusion_neighbours"), 0, 31, p.disocclusion_neighbours);
   p.boiling_threshold = float(r.number(key("boiling_filter"), 0.0, 1e6, p.boiling_threshold));
   p.visibility_reuse_frames = r.integer(key("visibility_reuse"), 0, 255, p.visibility_reuse_frames);
+  p.drop_occluded = r.flag(key("drop_occluded"), p.drop_occluded);
   p.permutation_sampling = r.flag(key("permutation"), p.permutation_sampling);
   p.history_cap = float(r.number(key("history_cap"), 0.0, 1000.0, p.history_cap));
 }

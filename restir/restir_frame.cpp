@@ -24,6 +24,17 @@ void Restir::pack_surfaces(const GBuffer& g, int pass, FrameStats& stats) {
   pack_di_surfaces(g, surfaces_);
 }
 
+// With drop_occluded: every reservoir whose sample the shading's shadow ray (or a reused verdict) found
+// occluded keeps its M and drops the sample (as the boiling filter does), before it becomes history. Where
+// a pixel's strongest unshadowed sample is occluded, temporal reuse would otherwise choose it frame after
+// frame and shade black. Shading integrates f V, to which an occluded sample contributes nothing, so the
+// history of a still pixel stays unbiased; a neighbour that sees the sample, or this pixel once the
+// occluder moved, loses its share (darkening at shadow edges). Cost: one pass over the verdicts.
+static void drop_occluded_samples(const std::vector<DiVisibility>& visibility, std::vector<DiReservoir>& reservoirs) {
+  for (size_t i = 0; i < reservoirs.size(); ++i)
+    if (visibility[i].valid && !visibility[i].visible) reservoirs[i].W = reservoirs[i].w_sum = 0.0f;
+}
+
 // Stages "<prefix>_temporal" (first pass of a frame, once there is history), "<prefix>_boiling_filter"
 // (optional), "<prefix>_spatial" (per spatial pass) and "<prefix>_shade": reuses chain.initial across
 // frames and pixels and adds one estimate per pixel into the sum (plus emission seen and `unsampled`,
@@ -57,6 +68,7 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
     DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr, &chain.prev_visibility};
     di_shade(view, g, *result, unsampled, visibility, chain.visibility, sum, timer.rays(), timer.non_finite());
   }
+  if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);
   std::swap(chain.history, *result);
 }
 

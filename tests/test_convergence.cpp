@@ -53,6 +53,8 @@ class Convergence : public ::testing::Test {
     s.max_depth = 4;
     s.light_sampler = LightSamplerKind::Tree;
     s.seed = 3;
+    s.di_reuse.drop_occluded = false;  // ReSTIR DI's unbiased configuration: these tests judge convergence to
+                                       // the reference (the default's bias: Unbiased.RestirDi)
     return s;
   }
   // Method `name` at N = 1, 2, 4, ..., max_samples; `run` picks the seed; `last_image` receives the image

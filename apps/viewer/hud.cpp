@@ -157,6 +157,7 @@ bool draw_reuse_settings(DiReuseParams& r) {
   changed |= slider("history cap", r.history_cap, 0.0f, 100.0f, "%.1f");
   changed |= slider("boiling filter", r.boiling_threshold, 0.0f, 100.0f, "%.1f");
   changed |= slider("visibility reuse", r.visibility_reuse_frames, 0, 16);
+  changed |= ImGui::Checkbox("drop occluded", &r.drop_occluded);
   changed |= ImGui::Checkbox("permutation sampling", &r.permutation_sampling);
   return changed;
 }
