@@ -75,15 +75,17 @@ void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count
 // Stage "di_temporal": reads this frame's G-buffer (motion), this and the previous frame's surfaces and
 // reservoirs, writes `out` (one combined reservoir per pixel) and `history_pixel` (the previous frame's
 // pixel whose reservoir was merged, or -1 where the history was lost). Reprojects with the motion vectors.
-// No rays, except with mis_visibility.
+// One tile row at a time: the rows' pairs of inputs, their targets in lanes (with params.simd;
+// reuse_targets.h), then the combinations. No rays, except with mis_visibility.
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
                        std::vector<int32_t>& history_pixel, RayCounter& rays);
 
 // Stage "di_spatial": reads the surfaces and `in`, writes `out` combining each pixel with up to k
-// similar neighbours within the radius. No rays, except with mis_visibility. `pass` selects its own random stream. With
-// `history_pixel` (temporal reuse ran), the first pass gives pixels without history
+// similar neighbours within the radius, one tile row at a time as temporal reuse does (2 target
+// evaluations per neighbour, in lanes). No rays, except with mis_visibility. `pass` selects its own random
+// stream. With `history_pixel` (temporal reuse ran), the first pass gives pixels without history
 // disocclusion_neighbours instead.
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,

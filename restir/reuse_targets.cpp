@@ -32,30 +32,19 @@ struct Planes {
   CandidateLanes inputs[kMaxReuseInputs];
 };
 
-}  // namespace
-
-uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combiner, bool visibility, ReuseRow& row) {
-  thread_local Planes planes;
-  const Scene& scene = view.scene;
-  int max_count = 0;
-  const DiDomain* here = nullptr;
-  for (int s = 0; s < slots; ++s) {
-    row.targets[s].known_at = row.targets[s].known_of = row.targets[s].known_visible = row.targets[s].visible = 0;
-    max_count = std::max(max_count, row.count[s]);
-    if (row.count[s] > 0) here = row.inputs[s][0].domain;
-  }
-  if (max_count < 2) return 0;
-  // The combining pixels' receivers; every input's sample placed in plane k (inactive where the slot has
-  // no input k); p_0(y_k) of all of them in one call.
+// p_0(y_k) of every slot and input k >= 1: the combining pixels' receivers built once, every input's
+// sample placed in plane k (inactive where the slot has no input k), all planes in one call.
+void targets_at_combiners(const Scene& scene, const DiDomain& here, int slots, int max_count, ReuseRow& row,
+                          Planes& planes) {
   for (int s = 0; s < slots; ++s) {
     const DiReuseInput* in = row.inputs[s];
-    planes.surfaces.set(s, here->surfaces[row.count[s] > 0 ? in[0].pixel : 0]);
+    planes.surfaces.set(s, here.surfaces[row.count[s] > 0 ? in[0].pixel : 0]);
     for (int k = 1; k < max_count; ++k) {
-      if (k < row.count[s]) set_placed(scene, in[k], here->lights, s, planes.inputs[k]);
+      if (k < row.count[s]) set_placed(scene, in[k], here.lights, s, planes.inputs[k]);
       else planes.inputs[k].clear(s);
     }
   }
-  build_receiver_lanes(planes.surfaces, here->eye, slots, planes.combiners);
+  build_receiver_lanes(planes.surfaces, here.eye, slots, planes.combiners);
   evaluate_candidate_lanes(planes.combiners, planes.inputs + 1, max_count - 1, slots, false);
   for (int s = 0; s < slots; ++s)
     for (int k = 1; k < row.count[s]; ++k)
@@ -63,17 +52,20 @@ uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combin
         row.targets[s].at_combiner[k] = planes.inputs[k].p_hat[s];
         row.targets[s].known_at |= 1u << k;
       }
-  if (!of_combiner) return 0;
-  // Shadow rays from input k's surface to y_0, where its weight reads that: the answer goes to bit k of
-  // the slot's `visible`.
+}
+
+// p_k(y_0) of every slot and input k >= 1: the combining pixels' own samples at input k's receivers, one
+// receiver plane per k, each sample placed as input k's frame placed the lights; with `visibility`, the
+// shadow rays from input k's surface to y_0 where p_k(y_0) > 0 (answers into bit k of `visible`). Returns
+// the rays traced.
+uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, bool visibility, ReuseRow& row,
+                              Planes& planes) {
   auto answer = [&](uint32_t tag, const RayPacket16& packet, int lane) {
     LaneTargets& t = row.targets[tag >> 8];
     t.known_visible |= 1u << (tag & 255u);
     if (!Tracer::occluded_lane(packet, lane)) t.visible |= 1u << (tag & 255u);
   };
   auto queue = ray_queue16<uint32_t>(view.tracer, RayQuery::Occluded, answer);
-  // The combining pixels' own samples at each input k's receivers, one receiver plane per k, placed as
-  // input k's frame placed the lights.
   const LightList* own_placed_by = nullptr;
   for (int k = 1; k < max_count; ++k) {
     const DiDomain* domain = nullptr;
@@ -87,7 +79,7 @@ uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combin
     }
     if (own_placed_by != &domain->lights) {
       for (int s = 0; s < slots; ++s) {
-        if (row.count[s] > 1) set_placed(scene, row.inputs[s][0], domain->lights, s, planes.own);
+        if (row.count[s] > 1) set_placed(view.scene, row.inputs[s][0], domain->lights, s, planes.own);
         else planes.own.clear(s);
       }
       own_placed_by = &domain->lights;
@@ -107,6 +99,22 @@ uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combin
   }
   queue.finish();
   return queue.traced();
+}
+
+}  // namespace
+
+uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combiner, bool visibility, ReuseRow& row) {
+  thread_local Planes planes;
+  int max_count = 0;
+  const DiDomain* here = nullptr;
+  for (int s = 0; s < slots; ++s) {
+    row.targets[s].known_at = row.targets[s].known_of = row.targets[s].known_visible = row.targets[s].visible = 0;
+    max_count = std::max(max_count, row.count[s]);
+    if (row.count[s] > 0) here = row.inputs[s][0].domain;
+  }
+  if (max_count < 2) return 0;
+  targets_at_combiners(view.scene, *here, slots, max_count, row, planes);
+  return of_combiner ? targets_of_combiners(view, slots, max_count, visibility, row, planes) : 0;
 }
 
 }  // namespace candela
