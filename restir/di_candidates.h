@@ -89,8 +89,8 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     }
     sample_lights(sampler, b.ctx, batch.light_u.data(), batch.chosen.data(), params.light_candidates);
   }
-  // Each candidate's light, uniforms and density into the batch and its point straight into the lanes
-  // (assembling a whole DiSample first and copying it cost more than placing the point: store forwarding).
+  // Each candidate's light, uniforms and density into the batch and its point straight into the lanes (a
+  // whole DiSample assembled and copied per candidate stalled on store forwarding in the profile).
   for (int k = 0; k < params.light_candidates; ++k) {
     const size_t at = size_t(k) * kLaneSlots + size_t(slot);
     CandidateLanes& plane = batch.planes[size_t(k)];
