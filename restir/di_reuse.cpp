@@ -329,12 +329,14 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   // Neighbours: uniform points in the disk of the given radius, by rejection from the square (no
   // trigonometry), drawn with the pixel's random stream, and their surfaces and reservoirs prefetched.
   struct Drawn {
+    bool active = false;  // the pixel takes part in reuse (a surface, rough enough)
     int count = 0;
     size_t pixels[kMaxReuseInputs];
   };
   auto draw = [&](size_t i, int x, int y, Rng& rng, Drawn& d) {
     d.count = 0;
-    if (!surfaces[i].hit() || surfaces[i].roughness() < params.min_roughness) return;
+    d.active = surfaces[i].hit() && surfaces[i].roughness() >= params.min_roughness;
+    if (!d.active) return;
     const int neighbours = boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, kMaxReuseInputs - 1);
     rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
@@ -354,7 +356,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   // The pixel and its similar neighbours, as the inputs of its combination (none without a surface).
   auto select = [&](size_t i, const Drawn& d, int& count, DiReuseInput* inputs) {
     count = 0;
-    if (!surfaces[i].hit() || surfaces[i].roughness() < params.min_roughness) return;
+    if (!d.active) return;
     inputs[count++] = {&in[i], &current, i, in[i].M};
     const vec3 n = surfaces[i].shading_n();
     for (int c = 0; c < d.count; ++c) {

@@ -38,8 +38,9 @@ static void drop_occluded_samples(const std::vector<DiVisibility>& visibility, s
 // Stages "<prefix>_temporal" (first pass of a frame, once there is history), "<prefix>_boiling_filter"
 // (optional), "<prefix>_spatial" (per spatial pass) and "<prefix>_shade": reuses chain.initial across
 // frames and pixels and adds one estimate per pixel into the sum (plus emission seen and `unsampled`,
-// when given); the final reservoirs and shadow-ray verdicts become the chain's history, by swapping
-// buffers (every stage rewrites its output buffer whole, so nothing stale survives the swap).
+// when given; the shade stage also drops occluded samples, with drop_occluded); the final reservoirs and
+// shadow-ray verdicts become the chain's history, by swapping buffers (every stage rewrites its output
+// buffer whole, so nothing stale survives the swap).
 void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
                              const DiReuseParams& reuse, int key, int pass, const std::vector<vec3>* unsampled,
                              ReservoirChain& chain, FrameStats& stats, Image& sum) {
@@ -67,8 +68,8 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
     std::swap(chain.visibility, chain.prev_visibility);
     DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr, &chain.prev_visibility};
     di_shade(view, g, *result, unsampled, visibility, chain.visibility, sum, timer.rays(), timer.non_finite());
+    if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);
   }
-  if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);
   std::swap(chain.history, *result);
 }
 
