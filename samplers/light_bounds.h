@@ -53,37 +53,41 @@ inline float sin_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b)
 
 }  // namespace light_bounds_detail
 
-// Inline: the tree evaluates two siblings per level, and the compiler overlaps their independent
-// square roots and divisions when it sees both.
+// The arithmetic is ordered for a short chain of dependent operations (a tree descent waits for each
+// level's importances): everything that needs the distance waits for one square root and one reciprocal;
+// the other square roots (sines from cross products, the sphere's cone) run beside it, and the power over
+// the squared distance is divided early. wide_importance.cpp repeats it operation for operation.
 inline float LightBounds::importance(const vec3& p, const vec3& n) const {
   using namespace light_bounds_detail;
   if (phi <= 0.0f) return 0.0f;
   vec3 to_p = p - center;
-  float dist2 = glm::dot(to_p, to_p);
+  const float dist2 = glm::dot(to_p, to_p);
   // Points close to (or inside) the bounds would get unbounded importance: clamp the distance term
   // (pbrt-v4 clamps with half the box diagonal, which is the radius here).
-  float d2 = std::max({dist2, radius, 1e-20f});
-  float dist = std::sqrt(dist2);
+  const float power = phi / std::max({dist2, radius, 1e-20f});
+  const bool away = dist2 > 0.0f;
+  if (!away) to_p = vec3(0.0f, 0.0f, 1.0f);  // p at the centre: any direction will do
+  const float dist = std::sqrt(away ? dist2 : 1.0f);
+  const float inv_dist = 1.0f / dist;
   // theta_b: half-angle of the cone from p around the bounding sphere (pi when p is inside it).
-  float cos_b = -1.0f, sin_b = 0.0f;
-  if (dist > radius) {
-    sin_b = radius / dist;
-    cos_b = safe_sqrt(1.0f - sin_b * sin_b);
-  }
-  vec3 dir = dist > 0.0f ? to_p / dist : vec3(0.0f, 0.0f, 1.0f);
+  const bool outside = away && dist > radius;
+  const float sin_b = outside ? radius * inv_dist : 0.0f;
+  const float cos_b = outside ? safe_sqrt(dist2 - radius * radius) * inv_dist : -1.0f;
   // Smallest angle between an emitter's normal and a direction towards p: theta_w - theta_o - theta_b.
-  float cos_w = glm::dot(w, dir);
+  float cos_w = glm::dot(w, to_p) * inv_dist;
   if (two_sided) cos_w = std::abs(cos_w);
-  float sin_w = safe_sqrt(1.0f - cos_w * cos_w);
-  float cos_x = cos_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
-  float sin_x = sin_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
-  float cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
+  const vec3 w_cross = glm::cross(w, to_p);
+  const float sin_w = std::sqrt(glm::dot(w_cross, w_cross)) * inv_dist;
+  const float cos_x = cos_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
+  const float sin_x = sin_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
+  const float cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
   if (cos_p < cos_theta_e) return 0.0f;
-  float value = phi * cos_p / d2;
+  float value = power * cos_p;
   // Receiver side: the smallest angle between n and a direction into the sphere.
   if (n != vec3(0.0f)) {
-    float cos_i = std::abs(glm::dot(dir, n));
-    float sin_i = safe_sqrt(1.0f - cos_i * cos_i);
+    const float cos_i = std::abs(glm::dot(to_p, n)) * inv_dist;
+    const vec3 n_cross = glm::cross(n, to_p);
+    const float sin_i = std::sqrt(glm::dot(n_cross, n_cross)) * inv_dist;
     value *= cos_sub_clamped(sin_i, cos_i, sin_b, cos_b);
   }
   return std::max(value, 0.0f);

@@ -26,38 +26,51 @@ V sin_sub_clamped(V sin_a, V cos_a, V sin_b, V cos_b) {
   return hn::IfThenZeroElse(hn::Gt(cos_a, cos_b), hn::Sub(hn::Mul(sin_a, cos_b), hn::Mul(cos_a, sin_b)));
 }
 
+// glm::dot and glm::cross of vec3, in their order of operations.
+struct V3 {
+  V x, y, z;
+};
+V dot(const V3& a, const V3& b) { return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z)); }
+V3 cross(const V3& a, const V3& b) {
+  return {hn::Sub(hn::Mul(a.y, b.z), hn::Mul(b.y, a.z)), hn::Sub(hn::Mul(a.z, b.x), hn::Mul(b.z, a.x)),
+          hn::Sub(hn::Mul(a.x, b.y), hn::Mul(b.x, a.y))};
+}
+
 void WideImportance(const WideBounds& b, const vec3& p, const vec3& n, float* out) {
   const D d;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   for (int s = 0; s < kTreeWidth; s += int(hn::Lanes(d))) {
     const V phi = hn::Load(d, b.phi + s), radius = hn::Load(d, b.radius + s);
-    const V tx = hn::Sub(hn::Set(d, p.x), hn::Load(d, b.cx + s));
-    const V ty = hn::Sub(hn::Set(d, p.y), hn::Load(d, b.cy + s));
-    const V tz = hn::Sub(hn::Set(d, p.z), hn::Load(d, b.cz + s));
-    const V dist2 = hn::Add(hn::Add(hn::Mul(tx, tx), hn::Mul(ty, ty)), hn::Mul(tz, tz));
-    const V d2 = hn::Max(hn::Set(d, 1e-20f), hn::Max(radius, dist2));  // std::max({dist2, radius, 1e-20f})
-    const V dist = hn::Sqrt(dist2);
+    V3 t{hn::Sub(hn::Set(d, p.x), hn::Load(d, b.cx + s)), hn::Sub(hn::Set(d, p.y), hn::Load(d, b.cy + s)),
+         hn::Sub(hn::Set(d, p.z), hn::Load(d, b.cz + s))};
+    const V dist2 = dot(t, t);
+    const V power = hn::Div(phi, hn::Max(hn::Set(d, 1e-20f), hn::Max(radius, dist2)));  // phi / std::max({...})
+    // p at the centre: the direction (0, 0, 1).
+    const auto away = hn::Gt(dist2, zero);
+    t = {hn::IfThenElseZero(away, t.x), hn::IfThenElseZero(away, t.y), hn::IfThenElse(away, t.z, one)};
+    const V dist = hn::Sqrt(hn::IfThenElse(away, dist2, one));
+    const V inv_dist = hn::Div(one, dist);
     // theta_b: the cone from p around the bounding sphere (cos -1 when p is inside it).
-    const auto outside = hn::Gt(dist, radius);
-    const V sin_b = hn::IfThenElseZero(outside, hn::Div(radius, dist));
-    const V cos_b = hn::IfThenElse(outside, safe_sqrt(d, hn::Sub(one, hn::Mul(sin_b, sin_b))), hn::Set(d, -1.0f));
-    const auto away = hn::Gt(dist, zero);
-    const V dx = hn::IfThenElseZero(away, hn::Div(tx, dist)), dy = hn::IfThenElseZero(away, hn::Div(ty, dist));
-    const V dz = hn::IfThenElse(away, hn::Div(tz, dist), one);
+    const auto outside = hn::And(away, hn::Gt(dist, radius));
+    const V sin_b = hn::IfThenElseZero(outside, hn::Mul(radius, inv_dist));
+    const V cos_b = hn::IfThenElse(outside, hn::Mul(safe_sqrt(d, hn::Sub(dist2, hn::Mul(radius, radius))), inv_dist),
+                                   hn::Set(d, -1.0f));
     // theta_w - theta_o - theta_b, then the emission cut-off theta_e.
-    V cos_w = hn::Add(hn::Add(hn::Mul(hn::Load(d, b.wx + s), dx), hn::Mul(hn::Load(d, b.wy + s), dy)),
-                      hn::Mul(hn::Load(d, b.wz + s), dz));
+    const V3 w{hn::Load(d, b.wx + s), hn::Load(d, b.wy + s), hn::Load(d, b.wz + s)};
+    V cos_w = hn::Mul(dot(w, t), inv_dist);
     cos_w = hn::IfThenElse(hn::Gt(hn::Load(d, b.two_sided + s), zero), hn::Abs(cos_w), cos_w);
-    const V sin_w = safe_sqrt(d, hn::Sub(one, hn::Mul(cos_w, cos_w)));
+    const V3 w_cross = cross(w, t);
+    const V sin_w = hn::Mul(hn::Sqrt(dot(w_cross, w_cross)), inv_dist);
     const V cos_o = hn::Load(d, b.cos_o + s), sin_o = hn::Load(d, b.sin_o + s);
     const V cos_x = cos_sub_clamped(d, sin_w, cos_w, sin_o, cos_o);
     const V sin_x = sin_sub_clamped(sin_w, cos_w, sin_o, cos_o);
     const V cos_p = cos_sub_clamped(d, sin_x, cos_x, sin_b, cos_b);
-    V value = hn::Div(hn::Mul(phi, cos_p), d2);
+    V value = hn::Mul(power, cos_p);
     if (n != vec3(0.0f)) {
-      const V cos_i = hn::Abs(hn::Add(hn::Add(hn::Mul(dx, hn::Set(d, n.x)), hn::Mul(dy, hn::Set(d, n.y))),
-                                      hn::Mul(dz, hn::Set(d, n.z))));
-      const V sin_i = safe_sqrt(d, hn::Sub(one, hn::Mul(cos_i, cos_i)));
+      const V3 nv{hn::Set(d, n.x), hn::Set(d, n.y), hn::Set(d, n.z)};
+      const V cos_i = hn::Mul(hn::Abs(dot(t, nv)), inv_dist);
+      const V3 n_cross = cross(nv, t);
+      const V sin_i = hn::Mul(hn::Sqrt(dot(n_cross, n_cross)), inv_dist);
       value = hn::Mul(value, cos_sub_clamped(d, sin_i, cos_i, sin_b, cos_b));
     }
     const auto dark = hn::Or(hn::Le(phi, zero), hn::Lt(cos_p, hn::Load(d, b.cos_e + s)));
