@@ -108,9 +108,6 @@ void resolve_settings(RenderOptions& o) {
   if (int64_t(o.settings.width) * o.settings.height > (int64_t(1) << 26))
     throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
   o.settings.light_sampler = light_sampler_names().at(o.light_sampler);
-  if (o.settings.di.light_tiles > 0 && !light_tiles_possible(o.settings.light_sampler))
-    throw InputError("--di-light-tiles: presampled light tiles need a light sampler that ignores the shading point "
-                     "(power or uniform), not --light-sampler " + o.light_sampler);
   o.settings.denoise.kind = denoiser_names().at(o.denoise);
   set_reuse(o.di_reuse, o.di_bias, o.settings.di_reuse);
   set_reuse(o.gi_reuse, o.gi_bias, o.settings.gi_reuse);
@@ -214,8 +211,9 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
   cmd->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   cmd->add_option("--di-light-tiles", r.settings.di.light_tiles,
-                  "restir-di: draw light candidates from this many presampled light tiles per frame, 16x16-pixel "
-                  "blocks sharing one (0 = off; power and uniform light samplers only)")
+                  "restir-di: draw light candidates from presampled light tiles: with the power and uniform light "
+                  "samplers this many per frame, shared by 16x16-pixel blocks; with tree and exhaustive each block "
+                  "draws its own for the region its points occupy (0 = off)")
       ->check(CLI::Range(0, 4096))->capture_default_str();
   cmd->add_option("--di-light-tile-size", r.settings.di.light_tile_size, "restir-di: light samples per light tile")
       ->check(CLI::Range(1, 1 << 16))->capture_default_str();

@@ -31,9 +31,6 @@ namespace candela {
 // plus ReSTIR GI for the indirect light (paths up to max_depth).
 enum class Method { PathTrace, Direct, RestirDi, Restir };
 enum class LightSamplerKind { Uniform, Power, Tree, Exhaustive };
-// Whether presampled light tiles (DiParams::light_tiles) can be drawn from the sampler: only where its
-// choice ignores the shading point (restir/light_tiles.h, kContextFreeSampler).
-inline bool light_tiles_possible(LightSamplerKind k) { return k == LightSamplerKind::Uniform || k == LightSamplerKind::Power; }
 
 // ReSTIR GI's reuse defaults: ReSTIR DI's, plus no reuse on surfaces smoother than roughness 0.2 and
 // samples at most 30 frames old, and visibility in the MIS weights (unbiased: the Jacobian rejection is off).

@@ -11,9 +11,12 @@
 
 namespace candela {
 
+// Where light is received: a point, or a region (radius > 0: any point within radius of `position`, of any
+// orientation, for choices shared by many receivers such as the light tiles of a screen block).
 struct ShadingContext {
   vec3 position{0.0f};
-  vec3 normal{0.0f};  // zero when unknown (e.g. a point in a medium)
+  vec3 normal{0.0f};  // zero when unknown (a point in a medium, a region)
+  float radius = 0.0f;
 };
 
 struct SampledLight {

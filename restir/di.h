@@ -40,8 +40,8 @@ struct DiParams {
   bool candidate_visibility = false;  // trace a shadow ray to the chosen candidate and drop it if occluded (1 ray per pixel)
   bool simd = true;              // evaluate light candidates in SIMD lanes (target_lanes.h); false: the scalar
                                  // reference, which gives the same bits
-  int light_tiles = 0;           // > 0: light candidates read this many presampled light tiles per frame
-                                 // (light_tiles.h; power and uniform samplers only, ignored with the tree)
+  int light_tiles = 0;           // > 0: light candidates read presampled light tiles (light_tiles.h): this many
+                                 // shared ones per frame (power, uniform), or one per 16x16 block (tree, exhaustive)
   int light_tile_size = 1024;    // entries per tile
   uint64_t seed = 0;
 };

@@ -59,10 +59,10 @@ struct DiCandidateBatch {
 
 // Stage "di_candidates", part 1 (per pixel): the pixel's receivers, its M_l light candidates drawn from
 // the sampler and placed on their lights (or read from the pixel's light tile, when `tile` is given: one
-// uniform entry each), into the batch's slot and lanes.
+// uniform entry each, with the density of the tile's context), into the batch's slot and lanes.
 template <LightSampler S>
 void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                           const DiParams& params, int frame, size_t i, int slot, const DiLightCandidate* tile,
+                           const DiParams& params, int frame, size_t i, int slot, const LightTiles::Tile* tile,
                            DiCandidateBatch& batch) {
   DiCandidateBatch::Slot& b = batch.slot[slot];
   b.hit = g.hit(i);
@@ -75,7 +75,7 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     return;
   }
   b.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
-  b.ctx = ShadingContext{g.position[i], g.shading_normal[i]};
+  b.ctx = tile ? tile->ctx : ShadingContext{g.position[i], g.shading_normal[i]};  // what the candidates' density is for
   b.receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
   if (params.simd) batch.lanes.exact.set(slot, b.receiver.bsdf.wo_terms(b.receiver.wo));
   else batch.target(domain, slot);  // the scalar reference evaluates every candidate on it
@@ -96,7 +96,7 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     CandidateLanes& plane = batch.planes[size_t(k)];
     if (tile) {
       const int size = params.light_tile_size;
-      const DiLightCandidate& c = tile[std::min(int(b.rng.next_float() * float(size)), size - 1)];
+      const DiLightCandidate& c = tile->entries[std::min(int(b.rng.next_float() * float(size)), size - 1)];
       batch.u[at] = b.rng.next_float();
       batch.p_light[at] = c.p_light;
       batch.light[at] = c.sample.light, batch.uv[at] = c.sample.uv;
@@ -218,8 +218,8 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t row = size_t(y) * size_t(g.width) + size_t(tile.x0);
       for (int s = 0; s < slots; ++s) {
-        const DiLightCandidate* light_tile = tiles ? tiles->tile(tile.x0 + s, y, frame) : nullptr;
-        draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, light_tile, batch);
+        const LightTiles::Tile light_tile = tiles ? tiles->tile(tile.x0 + s, y, frame) : LightTiles::Tile{};
+        draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, tiles ? &light_tile : nullptr, batch);
       }
       if (params.simd) {
         build_receiver_lanes(batch.surfaces, domain.eye, slots, batch.lanes);

@@ -1,19 +1,31 @@
 #pragma once
 // Presampled light tiles (Wyman & Panteleev 2021, "Rearchitecting Spatiotemporal Resampling for
-// Production"; RTXDI ships them): once per frame, a few tiles of light samples are drawn from a
-// context-free light sampler (power or uniform), each entry holding everything a candidate needs (a
-// DiLightCandidate: the light, the uniforms that place the point on it, the point, and the density it was
-// drawn with). A pixel reads the tile of its screen block, so the candidate stage touches one contiguous
-// tile instead of light records scattered over the whole light list (on `city`, 104k emitting triangles).
+// Production"; RTXDI ships them): once per frame, tiles of light samples are drawn, each entry holding
+// everything a candidate needs (a DiLightCandidate: the light, the uniforms that place the point on it, the
+// point, and the density it was drawn with). A pixel reads the tile of its screen block, so the candidate
+// stage touches one contiguous tile instead of light records scattered over the whole light list (on `city`,
+// 104k emitting triangles), and a light sampler that costs a tree descent per sample is paid per entry, not
+// per candidate.
 //
-// Unbiasedness: every entry is drawn independently with density p_light(x) = pmf(light) / area (as a
-// direct draw would be), and a pixel picks entries uniformly, so each candidate is marginally distributed
-// with exactly that density. RIS needs nothing more: the expectation of its estimate is the sum over
-// candidates of E[f(x_i) / p(x_i)] / M, which involves each candidate's marginal alone. Candidates of one
-// screen block are correlated (they share a tile), which costs variance, not bias.
+// Two kinds, by the light sampler:
+// - shared tiles, from a sampler whose choice ignores the shading point (power, uniform): a few tiles serve
+//   every block, in an order shuffled per frame;
+// - region tiles, from one whose choice depends on it (tree, exhaustive): each screen block draws its own
+//   tile for the region its pixels' points occupy, the sphere around their bounding box
+//   (ShadingContext::radius), for which the sampler's importance stays positive wherever some point of
+//   the region can receive a light (light_bounds.h, LightBounds::importance).
+//
+// Unbiasedness: every entry is drawn independently with density p_light(x) = pmf(ctx, light) / area for
+// the tile's context (a direct draw for that context), and a pixel picks entries uniformly, so each
+// candidate is marginally distributed with exactly that density, which is positive wherever the pixel can
+// receive light. RIS needs nothing more: the expectation of its estimate is the sum over candidates of
+// E[f(x_i) / p(x_i)] / M, which involves each candidate's marginal alone; MIS with BSDF candidates asks
+// the sampler for the same density (Tile::ctx). Candidates of one screen block are correlated (they share
+// a tile), which costs variance, not bias.
 #include <type_traits>
 #include <vector>
 
+#include "engine/gbuffer.h"
 #include "engine/parallel.h"
 #include "restir/di.h"
 #include "samplers/simple_samplers.h"
@@ -29,35 +41,84 @@ class LightTiles {
  public:
   static constexpr int kBlock = 16;  // pixels per side of the screen block that shares a tile
 
-  // Stage "di_light_tiles": draws `count` tiles of `size` entries from `sampler`, keyed on (seed, frame,
-  // tile, entry) so that they do not depend on the thread count. Cost: count x size light samples.
-  template <class S>
-  void build(const SceneView& view, const S& sampler, int count, int size, uint64_t seed, int frame) {
-    static_assert(kContextFreeSampler<S>, "light tiles need a sampler whose choice ignores the shading point");
-    count_ = count;
+  // What a pixel reads: the tile's entries and the context they were drawn for, with which the sampler's
+  // pmf gives any light's density in this tile (for MIS with BSDF candidates).
+  struct Tile {
+    const DiLightCandidate* entries;
+    ShadingContext ctx;
+  };
+
+  // Stage "di_light_tiles": `count` shared tiles (context-free samplers) or one tile per screen block of
+  // `g` (the others), of `size` entries each, keyed on (seed, frame, tile, entry) so that they do not
+  // depend on the thread count. Cost: tiles x size light samples (the tree shares the upper levels of a
+  // tile's descents, sample_lights), plus one pass over the G-buffer's points for region tiles.
+  template <LightSampler S>
+  void build(const SceneView& view, const S& sampler, const GBuffer& g, int count, int size, uint64_t seed, int frame) {
     size_ = size;
-    entries_.resize(size_t(count) * size_t(size));
-    const ShadingContext anywhere{vec3(0.0f), vec3(0.0f, 0.0f, 1.0f)};
-    parallel_for(0, count, [&](int t) {
-      for (int e = 0; e < size; ++e) {
-        Rng rng = Rng::for_key(seed, uint64_t(t) * uint64_t(size) + uint64_t(e), uint64_t(frame), 0x7e);
-        SampledLight chosen = sampler.sample(anywhere, vec2(rng.next_float(), rng.next_float()));
-        vec2 uv(rng.next_float(), rng.next_float());
-        entries_[size_t(t) * size_t(size) + size_t(e)] = di_light_candidate(view.scene, view.lights, chosen, uv);
-      }
-    });
+    if constexpr (kContextFreeSampler<S>) {
+      blocks_x_ = 0;
+      contexts_.assign(size_t(count), ShadingContext{});
+    } else {
+      blocks_x_ = (g.width + kBlock - 1) / kBlock;
+      contexts_.resize(size_t(blocks_x_) * size_t((g.height + kBlock - 1) / kBlock));
+      parallel_for(0, int(contexts_.size()), [&](int b) { contexts_[size_t(b)] = block_region(g, b); });
+    }
+    entries_.resize(contexts_.size() * size_t(size));
+    parallel_for(0, int(contexts_.size()), [&](int t) { draw_tile(view, sampler, t, seed, frame); });
   }
 
-  // The tile of the screen block holding pixel (x, y) in frame `frame` (blocks take tiles in an order
-  // shuffled per frame, so that one block's candidates differ from frame to frame).
-  const DiLightCandidate* tile(int x, int y, int frame) const {
-    const uint64_t block = uint64_t(y / kBlock) * 4096u + uint64_t(x / kBlock);
-    return &entries_[size_t(mix64(block ^ mix64(uint64_t(frame) + 1)) % uint64_t(count_)) * size_t(size_)];
+  // The tile the pixel (x, y) reads in frame `frame`: its block's own (region tiles) or one of the shared
+  // tiles, taken by the blocks in an order shuffled per frame so that one block's candidates differ from
+  // frame to frame.
+  Tile tile(int x, int y, int frame) const {
+    size_t t;
+    if (blocks_x_ > 0) {
+      t = size_t(y / kBlock) * size_t(blocks_x_) + size_t(x / kBlock);
+    } else {
+      const uint64_t block = uint64_t(y / kBlock) * 4096u + uint64_t(x / kBlock);
+      t = size_t(mix64(block ^ mix64(uint64_t(frame) + 1)) % uint64_t(contexts_.size()));
+    }
+    return {&entries_[t * size_t(size_)], contexts_[t]};
   }
 
  private:
-  int count_ = 0, size_ = 0;
-  std::vector<DiLightCandidate> entries_;
+  // The region of screen block b: the sphere around the bounding box of its pixels' points (slightly
+  // enlarged against rounding), any orientation. A block without hits gets radius -1: no pixel reads its
+  // tile, which is not drawn.
+  ShadingContext block_region(const GBuffer& g, int b) const {
+    const int x0 = (b % blocks_x_) * kBlock, y0 = (b / blocks_x_) * kBlock;
+    Bounds3 box;
+    for (int y = y0; y < std::min(y0 + kBlock, g.height); ++y)
+      for (int x = x0; x < std::min(x0 + kBlock, g.width); ++x) {
+        const size_t i = size_t(y) * size_t(g.width) + size_t(x);
+        if (g.hit(i)) box.extend(g.position[i]);
+      }
+    if (box.lo.x > box.hi.x) return {vec3(0.0f), vec3(0.0f), -1.0f};
+    const float radius = 0.5f * box.diagonal();
+    return {box.center(), vec3(0.0f), radius * 1.0001f + 1e-6f * max_component(glm::abs(box.center())) + 1e-6f};
+  }
+
+  // Draws tile t's entries for its context: uniforms per entry as keyed, then the lights in one call.
+  template <LightSampler S>
+  void draw_tile(const SceneView& view, const S& sampler, int t, uint64_t seed, int frame) {
+    if (contexts_[size_t(t)].radius < 0.0f) return;
+    thread_local std::vector<vec2> u, uv;
+    thread_local std::vector<SampledLight> chosen;
+    u.resize(size_t(size_)), uv.resize(size_t(size_)), chosen.resize(size_t(size_));
+    for (int e = 0; e < size_; ++e) {
+      Rng rng = Rng::for_key(seed, uint64_t(t) * uint64_t(size_) + uint64_t(e), uint64_t(frame), 0x7e);
+      u[size_t(e)] = vec2(rng.next_float(), rng.next_float());
+      uv[size_t(e)] = vec2(rng.next_float(), rng.next_float());
+    }
+    sample_lights(sampler, contexts_[size_t(t)], u.data(), chosen.data(), size_);
+    DiLightCandidate* out = &entries_[size_t(t) * size_t(size_)];
+    for (int e = 0; e < size_; ++e) out[e] = di_light_candidate(view.scene, view.lights, chosen[size_t(e)], uv[size_t(e)]);
+  }
+
+  int size_ = 0;
+  int blocks_x_ = 0;                       // region tiles: blocks per row; 0: shared tiles
+  std::vector<ShadingContext> contexts_;   // per tile: what its entries were drawn for
+  std::vector<DiLightCandidate> entries_;  // tile t: [t * size, (t + 1) * size)
 };
 
 }  // namespace candela

@@ -90,12 +90,10 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
     DiParams params = settings_.di;
     params.seed = settings_.seed;
     const LightTiles* tiles = nullptr;
-    if constexpr (kContextFreeSampler<S>) {
-      if (params.light_tiles > 0) {
-        StageTimer timer(stats, "di_light_tiles");
-        light_tiles_.build(view, sampler, params.light_tiles, params.light_tile_size, params.seed, key);
-        tiles = &light_tiles_;
-      }
+    if (params.light_tiles > 0) {
+      StageTimer timer(stats, "di_light_tiles");
+      light_tiles_.build(view, sampler, g, params.light_tiles, params.light_tile_size, params.seed, key);
+      tiles = &light_tiles_;
     }
     {
       StageTimer timer(stats, "di_candidates");

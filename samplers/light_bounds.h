@@ -8,6 +8,7 @@
 // Space is bounded by a sphere (all the importance needs), directions by a cone around w holding every
 // emitter normal (theta_o) plus how far beyond its normal an emitter still emits (theta_e). Sines are
 // stored beside cosines so that evaluating importance needs no trigonometry. 48 bytes.
+#include "engine/light_sampler.h"
 #include "engine/lights.h"
 #include "engine/math.h"
 
@@ -23,8 +24,12 @@ struct LightBounds {
   uint32_t two_sided = 0;
 
   bool empty() const { return phi <= 0.0f; }
-  // Importance for a receiver at p with unit normal n (n = 0: any orientation).
-  float importance(const vec3& p, const vec3& n) const;
+  // Importance for a receiver at ctx.position with unit normal ctx.normal (0: any orientation). For a
+  // region (ctx.radius > 0) the bounding sphere grows by the region's radius: the directions from any point
+  // q of the region to the lights are the directions from the region's centre to the lights moved by
+  // (centre - q), which the grown sphere holds, so a light that can reach some point of the region keeps
+  // a positive importance.
+  float importance(const ShadingContext& ctx) const;
   void set_cos_theta_o(float c) { cos_theta_o = std::clamp(c, -1.0f, 1.0f); sin_theta_o = std::sqrt(1.0f - cos_theta_o * cos_theta_o); }
 };
 
@@ -57,10 +62,12 @@ inline float sin_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b)
 // level's importances): everything that needs the distance waits for one square root and one reciprocal;
 // the other square roots (sines from cross products, the sphere's cone) run beside it, and the power over
 // the squared distance is divided early. wide_importance.cpp repeats it operation for operation.
-inline float LightBounds::importance(const vec3& p, const vec3& n) const {
+inline float LightBounds::importance(const ShadingContext& ctx) const {
   using namespace light_bounds_detail;
   if (phi <= 0.0f) return 0.0f;
-  vec3 to_p = p - center;
+  const vec3& n = ctx.normal;
+  const float radius = this->radius + ctx.radius;
+  vec3 to_p = ctx.position - center;
   const float dist2 = glm::dot(to_p, to_p);
   // Points close to (or inside) the bounds would get unbounded importance: clamp the distance term
   // (pbrt-v4 clamps with half the box diagonal, which is the radius here).

@@ -281,7 +281,7 @@ void LightTreeSampler::child_weights(const Node& node, const ShadingContext& ctx
   // The next level reads one of the interior children: fetch the first line of each while this one computes.
   for (uint32_t k = 0; k < node.count; ++k)
     if (!(node.child[k] & kLeaf)) __builtin_prefetch(&nodes_[node.child[k]]);
-  wide_importance(node.bounds, ctx.position, ctx.normal, out.weight);
+  wide_importance(node.bounds, ctx, out.weight);
   auto accumulate = [&] {
     double sum = 0.0;
     for (uint32_t k = 0; k < node.count; ++k) out.cumulative[k] = sum += out.weight[k];
@@ -326,7 +326,7 @@ SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const 
   double u = wide_uniform(u2);
   SampledLight chosen;
   if (infinite_.choose(u, chosen)) return chosen;
-  if (nodes_.empty() || root_.importance(ctx.position, ctx.normal) <= 0.0f) return {};
+  if (nodes_.empty() || root_.importance(ctx) <= 0.0f) return {};
   ChildWeights w;
   return descend(u, [&](uint32_t node) -> const ChildWeights& {
     child_weights(nodes_[node], ctx, w);
@@ -352,7 +352,7 @@ void LightTreeSampler::sample_many(const ShadingContext& ctx, const vec2* u2, Sa
     child_weights(nodes_[node], ctx, r.weights);
     return r.weights;
   };
-  const bool reachable = !nodes_.empty() && root_.importance(ctx.position, ctx.normal) > 0.0f;
+  const bool reachable = !nodes_.empty() && root_.importance(ctx) > 0.0f;
   for (int k = 0; k < n; ++k) {
     double u = wide_uniform(u2[k]);
     if (infinite_.choose(u, out[k])) continue;
@@ -363,7 +363,7 @@ void LightTreeSampler::sample_many(const ShadingContext& ctx, const vec2* u2, Sa
 // The same probabilities along the path from the root to the light's slot (found from the slot up).
 float LightTreeSampler::pmf(const ShadingContext& ctx, uint32_t index) const {
   if (slot_of_[index] == kNoSlot) return infinite_.contains(index) ? infinite_.pmf_each() : 0.0f;
-  if (root_.importance(ctx.position, ctx.normal) <= 0.0f) return 0.0f;
+  if (root_.importance(ctx) <= 0.0f) return 0.0f;
   uint32_t path[kMaxDepth];
   int depth = 0;
   for (uint32_t ref = slot_of_[index];; ref = parent_[ref / kTreeWidth]) {
@@ -418,12 +418,12 @@ SampledLight ExhaustiveLightSampler::sample(const ShadingContext& ctx, vec2 u2) 
   SampledLight chosen;
   if (infinite_.choose(u, chosen)) return chosen;
   double total = 0.0;
-  for (const LightBounds& b : bounds_) total += b.importance(ctx.position, ctx.normal);
+  for (const LightBounds& b : bounds_) total += b.importance(ctx);
   if (total <= 0.0) return {};
   double target = u * total, running = 0.0;
   uint32_t last = 0;
   for (uint32_t i = 0; i < bounds_.size(); ++i) {
-    float imp = bounds_[i].importance(ctx.position, ctx.normal);
+    float imp = bounds_[i].importance(ctx);
     if (imp <= 0.0f) continue;
     last = i;
     running += imp;
@@ -435,9 +435,9 @@ SampledLight ExhaustiveLightSampler::sample(const ShadingContext& ctx, vec2 u2) 
 float ExhaustiveLightSampler::pmf(const ShadingContext& ctx, uint32_t index) const {
   if (infinite_.contains(index)) return infinite_.pmf_each();
   double total = 0.0;
-  for (const LightBounds& b : bounds_) total += b.importance(ctx.position, ctx.normal);
+  for (const LightBounds& b : bounds_) total += b.importance(ctx);
   if (total <= 0.0) return 0.0f;
-  return float((1.0 - infinite_.probability()) * bounds_[index].importance(ctx.position, ctx.normal) / total);
+  return float((1.0 - infinite_.probability()) * bounds_[index].importance(ctx) / total);
 }
 
 }  // namespace candela

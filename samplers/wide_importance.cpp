@@ -36,11 +36,13 @@ V3 cross(const V3& a, const V3& b) {
           hn::Sub(hn::Mul(a.x, b.y), hn::Mul(b.x, a.y))};
 }
 
-void WideImportance(const WideBounds& b, const vec3& p, const vec3& n, float* out) {
+void WideImportance(const WideBounds& b, const ShadingContext& ctx, float* out) {
   const D d;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+  const vec3& p = ctx.position;
+  const vec3& n = ctx.normal;
   for (int s = 0; s < kTreeWidth; s += int(hn::Lanes(d))) {
-    const V phi = hn::Load(d, b.phi + s), radius = hn::Load(d, b.radius + s);
+    const V phi = hn::Load(d, b.phi + s), radius = hn::Add(hn::Load(d, b.radius + s), hn::Set(d, ctx.radius));
     V3 t{hn::Sub(hn::Set(d, p.x), hn::Load(d, b.cx + s)), hn::Sub(hn::Set(d, p.y), hn::Load(d, b.cy + s)),
          hn::Sub(hn::Set(d, p.z), hn::Load(d, b.cz + s))};
     const V dist2 = dot(t, t);
@@ -87,8 +89,8 @@ namespace candela {
 
 HWY_EXPORT(WideImportance);
 
-void wide_importance(const WideBounds& bounds, const vec3& p, const vec3& n, float out[kTreeWidth]) {
-  HWY_DYNAMIC_DISPATCH(WideImportance)(bounds, p, n, out);
+void wide_importance(const WideBounds& bounds, const ShadingContext& ctx, float out[kTreeWidth]) {
+  HWY_DYNAMIC_DISPATCH(WideImportance)(bounds, ctx, out);
 }
 
 WideBounds::WideBounds() {

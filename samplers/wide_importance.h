@@ -20,9 +20,9 @@ struct alignas(64) WideBounds {
   void set(int slot, const LightBounds& b);
 };
 
-// out[k] = LightBounds::importance(p, n) of slot k, for the 8 slots. Cost: ~70 flops, 4 square roots and 2
+// out[k] = LightBounds::importance(ctx) of slot k, for the 8 slots. Cost: ~70 flops, 4 square roots and 2
 // divisions per slot, in one AVX2 / AVX-512 vector or two SSE ones; about 75 cycles from the node's load to
 // the importances (one square root, one reciprocal and two sine-cosine steps in a row).
-void wide_importance(const WideBounds& bounds, const vec3& p, const vec3& n, float out[kTreeWidth]);
+void wide_importance(const WideBounds& bounds, const ShadingContext& ctx, float out[kTreeWidth]);
 
 }  // namespace candela

@@ -30,19 +30,30 @@ inline bool light_can_reach(const LightList& lights, size_t index, const vec3& p
   return glm::dot(l.direction, glm::normalize(p - l.position)) > std::cos(l.outer_cone);
 }
 
+// Every light that can reach one of `receivers` has non-zero pmf for `ctx` (the receivers' region, or the
+// receiver itself); returns how many lights were checked.
+template <class Sampler>
+size_t expect_no_dropped_lights_in(const Sampler& sampler, const LightList& lights, const ShadingContext& ctx,
+                                   const std::vector<ShadingContext>& receivers) {
+  size_t checked = 0;
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    for (size_t k = 0; k < receivers.size(); ++k) {
+      if (!light_can_reach(lights, i, receivers[k].position, receivers[k].normal)) continue;
+      ++checked;
+      if (sampler.pmf(ctx, i) <= 0.0f) {
+        ADD_FAILURE() << "light " << i << " can reach receiver " << k << " but has pmf 0";
+        return checked;
+      }
+      break;
+    }
+  return checked;
+}
+
 // Every light that can reach a receiver has non-zero pmf there; returns how many pairs were checked.
 template <class Sampler>
 size_t expect_no_dropped_lights(const Sampler& sampler, const LightList& lights, const std::vector<ShadingContext>& points) {
   size_t checked = 0;
-  for (size_t k = 0; k < points.size(); ++k)
-    for (uint32_t i = 0; i < lights.size(); ++i) {
-      if (!light_can_reach(lights, i, points[k].position, points[k].normal)) continue;
-      ++checked;
-      if (sampler.pmf(points[k], i) <= 0.0f) {
-        ADD_FAILURE() << "light " << i << " can reach receiver " << k << " but has pmf 0";
-        return checked;
-      }
-    }
+  for (const ShadingContext& p : points) checked += expect_no_dropped_lights_in(sampler, lights, p, {p});
   return checked;
 }
 

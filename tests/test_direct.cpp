@@ -120,10 +120,12 @@ TEST(Unbiased, LightSamplersAndRestirDiCandidates) {
   // with and without the visibility test, light and BSDF candidates mixed, and power candidates read from
   // presampled light tiles (8 tiles of 256 entries: a 16x16 block's 2,048 candidates share one, so they
   // are strongly correlated, and twice the runs keep the detectable bias under 1%; the punctual lights are
-  // in the tiles too).
+  // in the tiles too), and tree candidates read from region tiles (each block's own 256 entries, drawn for
+  // the sphere around its points; the BSDF candidate's MIS weight uses the same region density).
   struct Case { LightSamplerKind kind; bool visibility; int light_candidates, bsdf_candidates, light_tiles; };
   for (Case c : {Case{LightSamplerKind::Power, false, 8, 1, 0}, Case{LightSamplerKind::Tree, true, 8, 1, 0},
-                 Case{LightSamplerKind::Power, false, 2, 4, 0}, Case{LightSamplerKind::Power, false, 8, 1, 8}}) {
+                 Case{LightSamplerKind::Power, false, 2, 4, 0}, Case{LightSamplerKind::Power, false, 8, 1, 8},
+                 Case{LightSamplerKind::Tree, false, 8, 1, 1}}) {
     RenderSettings s = direct(c.kind, 1);
     s.method = Method::RestirDi;
     s.di.candidate_visibility = c.visibility;

@@ -141,6 +141,40 @@ TEST(Samplers, TreeAfterRefitFollowsMovingLights) {
 }
 
 TEST(Samplers, TreeFrequenciesMatchPmf) { check_context_sampler<LightTreeSampler>(make_manylights_scene(256, 7), 12, 200000); }
+
+// Regions (ShadingContext::radius: the light tiles of a screen block) spread through a scene, 0.05-2 m.
+std::vector<ShadingContext> regions(const Scene& scene, int count, uint64_t seed) {
+  std::vector<ShadingContext> out = shading_points(scene, count, seed);
+  Rng rng(seed, 6);
+  for (ShadingContext& c : out) c.normal = vec3(0.0f), c.radius = 0.05f + 1.95f * rng.next_float();
+  return out;
+}
+TEST(Samplers, TreeFrequenciesMatchPmfForRegions) {
+  const Scene scene = make_manylights_scene(256, 7);
+  LightList lights(scene);
+  check_sampler_at(LightTreeSampler(lights), lights, regions(scene, 6, 29), 200000);
+}
+// A region's pmf is positive for every light that can reach some receiver in it (16 points of any normal
+// in each region). Fails if the tree ignores the region's radius (a point's importance at its centre).
+TEST(Samplers, TreeRegionsKeepEveryLightTheirReceiversCanReach) {
+  for (const Scene& scene : {make_manylights_scene(256, 7), make_city_scene(7)}) {
+    LightList lights(scene);
+    LightTreeSampler tree(lights);
+    Rng rng(9, 9);
+    auto signed_unit = [&] { return 2.0f * rng.next_float() - 1.0f; };
+    size_t checked = 0;
+    for (const ShadingContext& region : regions(scene, 8, 31)) {
+      std::vector<ShadingContext> receivers;
+      while (receivers.size() < 16) {
+        const vec3 d(signed_unit(), signed_unit(), signed_unit()), n(signed_unit(), signed_unit(), signed_unit());
+        if (glm::dot(d, d) <= 1.0f && glm::dot(n, n) > 1e-4f)
+          receivers.push_back({region.position + d * region.radius, glm::normalize(n)});
+      }
+      checked += testing::expect_no_dropped_lights_in(tree, lights, region, receivers);
+    }
+    EXPECT_GT(checked, 1000u);
+  }
+}
 TEST(Samplers, ExhaustiveFrequenciesMatchPmf) { check_context_sampler<ExhaustiveLightSampler>(make_manylights_scene(64, 7), 4, 50000); }
 // With a directional light beside the finite ones (chosen with its own probability).
 Scene manylights_with_sun() {
@@ -251,12 +285,13 @@ TEST(Samplers, WideImportanceGivesTheScalarBitsOnRandomBounds) {
     }
     const vec3 p = vec3(uniform(-6, 6), uniform(-6, 6), uniform(-6, 6));
     const vec3 n = node % 5 == 0 ? vec3(0.0f) : unit();
+    const float region = node % 7 == 0 ? uniform(0.0f, 2.0f) : 0.0f;
     for_each_simd_target([&](const char* target) {
       if (node == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
       float lanes[kTreeWidth];
-      wide_importance(wide, p, n, lanes);
+      wide_importance(wide, ShadingContext{p, n, region}, lanes);
       for (int k = 0; k < kTreeWidth; ++k) {
-        const float expected = scalar[k].importance(p, n);
+        const float expected = scalar[k].importance(ShadingContext{p, n, region});
         ++compared;
         positive += expected > 0.0f;
         EXPECT_TRUE(testing::same_bits(lanes[k], expected)) << target << ", node " << node << " slot " << k << ": lanes "

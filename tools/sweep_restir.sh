@@ -3,11 +3,13 @@
 # of a still camera (--no-jitter, 320x180) over SEEDS seeds, its relMSE against a converged reference and
 # its estimator time (all stages after the G-buffer), and their product (lower is better: at equal time,
 # relMSE scales as 1 / time for independent frames, so relMSE x time compares values at equal time).
-# usage: tools/sweep_restir.sh SCENE METHOD OPTION "VALUE..." [SEEDS]    (writes into out/sweep/)
+# usage: tools/sweep_restir.sh SCENE METHOD OPTION "VALUE..." [SEEDS [OTHER OPTIONS...]]    (writes into out/sweep/)
 #   e.g. tools/sweep_restir.sh builtin:manylights restir-di --di-neighbours "1 2 5"
+#        tools/sweep_restir.sh builtin:city restir-di --di-light-tile-size "64 256" 3 --light-sampler tree --di-light-tiles 1
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=$1; method=$2; option=$3; values=$4; seeds=${5:-3}
+shift $(( $# < 5 ? $# : 5 )); others=("$@")
 out=out/sweep; mkdir -p "$out"
 name=$(basename "$scene" .gltf); name=${name#builtin:}
 common=(--width 320 --height 180 --environment 0 --no-jitter -q)
@@ -18,9 +20,9 @@ else
 fi
 ref="$out/${name}_${method}_reference.exr"
 [ -f "$ref" ] || ./build/candela render "$scene" "${common[@]}" "${reference[@]}" --spp 1024 --seed 99 --out "$ref"
-printf "%-20s %-10s %-24s %10s %10s %12s\n" scene method "$option" relMSE ms "relMSE x ms"
+printf "%-20s %-10s %-24s %10s %10s %12s  %s\n" scene method "$option" relMSE ms "relMSE x ms" "${others[*]:-}"
 for value in $values; do
-  python3 - "$scene" "$method" "$option" "$value" "$seeds" "$ref" "$out/$name" "${common[@]}" <<'EOF'
+  python3 - "$scene" "$method" "$option" "$value" "$seeds" "$ref" "$out/$name" "${common[@]}" ${others[@]+"${others[@]}"} <<'EOF'
 import json, subprocess, sys
 scene, method, option, value, seeds, ref, prefix = sys.argv[1:8]
 common = sys.argv[8:]
