@@ -215,8 +215,9 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
                   "samplers this many per frame, shared by 16x16-pixel blocks; with tree and exhaustive each block "
                   "draws its own for the region its points occupy (0 = off)")
       ->check(CLI::Range(0, 4096))->capture_default_str();
-  cmd->add_option("--di-light-tile-size", r.settings.di.light_tile_size, "restir-di: light samples per light tile")
-      ->check(CLI::Range(1, 1 << 16))->capture_default_str();
+  cmd->add_option("--di-light-tile-size", r.settings.di.light_tile_size,
+                  "restir-di: light samples per light tile (0 = 1024 per shared tile, 128 per region tile)")
+      ->check(CLI::Range(0, 1 << 16))->capture_default_str();
   cmd->add_option("--di-bsdf-candidates", r.settings.di.bsdf_candidates,
                      "restir-di: BSDF-sampled candidates per pixel (M_b; one ray each)")
       ->check(CLI::Range(0, 64))->capture_default_str();

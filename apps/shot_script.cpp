@@ -207,7 +207,7 @@ void read_render_settings(ObjectReader& r, ShotScript& s) {
   st.di.light_candidates = r.integer("di_candidates", 0, 1024, st.di.light_candidates);
   st.di.bsdf_candidates = r.integer("di_bsdf_candidates", 0, 64, st.di.bsdf_candidates);
   st.di.light_tiles = r.integer("di_light_tiles", 0, 4096, st.di.light_tiles);
-  st.di.light_tile_size = r.integer("di_light_tile_size", 1, 1 << 16, st.di.light_tile_size);
+  st.di.light_tile_size = r.integer("di_light_tile_size", 0, 1 << 16, st.di.light_tile_size);
   st.di.candidate_visibility = r.flag("di_visibility", st.di.candidate_visibility);
   st.di_reuse.mis_visibility = r.flag("di_mis_visibility", st.di_reuse.mis_visibility);
   read_reuse_params(r, "di_", st.di_reuse);

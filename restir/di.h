@@ -42,7 +42,7 @@ struct DiParams {
                                  // reference, which gives the same bits
   int light_tiles = 0;           // > 0: light candidates read presampled light tiles (light_tiles.h): this many
                                  // shared ones per frame (power, uniform), or one per 16x16 block (tree, exhaustive)
-  int light_tile_size = 1024;    // entries per tile
+  int light_tile_size = 0;       // entries per tile; 0: 1,024 per shared tile, 128 per region tile
   uint64_t seed = 0;
 };
 

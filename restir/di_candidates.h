@@ -95,8 +95,7 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     const size_t at = size_t(k) * kLaneSlots + size_t(slot);
     CandidateLanes& plane = batch.planes[size_t(k)];
     if (tile) {
-      const int size = params.light_tile_size;
-      const DiLightCandidate& c = tile->entries[std::min(int(b.rng.next_float() * float(size)), size - 1)];
+      const DiLightCandidate& c = tile->entries[std::min(int(b.rng.next_float() * float(tile->size)), tile->size - 1)];
       batch.u[at] = b.rng.next_float();
       batch.p_light[at] = c.p_light;
       batch.light[at] = c.sample.light, batch.uv[at] = c.sample.uv;

@@ -40,21 +40,25 @@ inline constexpr bool kContextFreeSampler =
 class LightTiles {
  public:
   static constexpr int kBlock = 16;  // pixels per side of the screen block that shares a tile
+  // Entries per tile when DiParams::light_tile_size is 0: RTXDI's 1,024 for shared tiles; 128 for region
+  // tiles, where a block's 256 pixels share their own (equal-time sweep in the README, "Region light tiles").
+  static constexpr int kSharedTileSize = 1024, kRegionTileSize = 128;
 
-  // What a pixel reads: the tile's entries and the context they were drawn for, with which the sampler's
-  // pmf gives any light's density in this tile (for MIS with BSDF candidates).
+  // What a pixel reads: the tile's `size` entries and the context they were drawn for, with which the
+  // sampler's pmf gives any light's density in this tile (for MIS with BSDF candidates).
   struct Tile {
     const DiLightCandidate* entries;
+    int size;
     ShadingContext ctx;
   };
 
   // Stage "di_light_tiles": `count` shared tiles (context-free samplers) or one tile per screen block of
-  // `g` (the others), of `size` entries each, keyed on (seed, frame, tile, entry) so that they do not
+  // `g` (the others), of `size` entries each (0: kSharedTileSize or kRegionTileSize), keyed on (seed, frame, tile, entry) so that they do not
   // depend on the thread count. Cost: tiles x size light samples (the tree shares the upper levels of a
   // tile's descents, sample_lights), plus one pass over the G-buffer's points for region tiles.
   template <LightSampler S>
   void build(const SceneView& view, const S& sampler, const GBuffer& g, int count, int size, uint64_t seed, int frame) {
-    size_ = size;
+    size_ = size > 0 ? size : kContextFreeSampler<S> ? kSharedTileSize : kRegionTileSize;
     if constexpr (kContextFreeSampler<S>) {
       blocks_x_ = 0;
       contexts_.assign(size_t(count), ShadingContext{});
@@ -63,7 +67,7 @@ class LightTiles {
       contexts_.resize(size_t(blocks_x_) * size_t((g.height + kBlock - 1) / kBlock));
       parallel_for(0, int(contexts_.size()), [&](int b) { contexts_[size_t(b)] = block_region(g, b); });
     }
-    entries_.resize(contexts_.size() * size_t(size));
+    entries_.resize(contexts_.size() * size_t(size_));
     parallel_for(0, int(contexts_.size()), [&](int t) { draw_tile(view, sampler, t, seed, frame); });
   }
 
@@ -78,7 +82,7 @@ class LightTiles {
       const uint64_t block = uint64_t(y / kBlock) * 4096u + uint64_t(x / kBlock);
       t = size_t(mix64(block ^ mix64(uint64_t(frame) + 1)) % uint64_t(contexts_.size()));
     }
-    return {&entries_[t * size_t(size_)], contexts_[t]};
+    return {&entries_[t * size_t(size_)], size_, contexts_[t]};
   }
 
  private:

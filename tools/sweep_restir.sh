@@ -37,6 +37,6 @@ for seed in range(1, int(seeds) + 1):
     errors.append(float(compare.split("rel_mse")[1].split()[0]))
 rel, ms = sum(errors) / len(errors), sorted(times)[len(times) // 2]
 name = scene.split(":")[-1].split("/")[-1]
-print(f"{name:20s} {method:10s} {option + ' ' + value:24s} {rel:10.4f} {ms:10.1f} {rel * ms:12.2f}")
+print(f"{name:20s} {method:10s} {option + ' ' + value:24s} {rel:10.4g} {ms:10.1f} {rel * ms:12.4g}")
 EOF
 done
