@@ -114,10 +114,16 @@ size_t saoh_partition(std::vector<Entry>& entries, size_t begin, size_t end, con
     float t = (e.box.center()[axis] - all.centroids.lo[axis]) / extent[axis];
     return std::clamp(int(t * kBuckets), 0, kBuckets - 1);
   };
-  BoundsAccumulator buckets_of_axis[3][kBuckets];
-  for (size_t k = begin; k < end; ++k)
+  // Neighbouring entries mostly fall into the same bucket (earlier splits sorted them by position), and
+  // each add waits for the previous one's stores: alternate entries fill two sets of buckets, merged after.
+  BoundsAccumulator buckets_of_axis[3][kBuckets], odd_buckets[3][kBuckets];
+  for (size_t k = begin; k < end; ++k) {
+    BoundsAccumulator(&buckets)[3][kBuckets] = (k - begin) % 2 ? odd_buckets : buckets_of_axis;
     for (int axis = 0; axis < 3; ++axis)
-      if (extent[axis] > 0.0f) buckets_of_axis[axis][bucket_of(entries[k], axis)].add(entries[k].bounds, entries[k].box, false);
+      if (extent[axis] > 0.0f) buckets[axis][bucket_of(entries[k], axis)].add(entries[k].bounds, entries[k].box, false);
+  }
+  for (int axis = 0; axis < 3; ++axis)
+    for (int b = 0; b < kBuckets; ++b) buckets_of_axis[axis][b].add(odd_buckets[axis][b]);
   float best_cost = kInfinity;
   int best_axis = -1, best_split = 0;
   for (int axis = 0; axis < 3; ++axis) {
