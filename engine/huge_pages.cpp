@@ -16,6 +16,7 @@
 // operator new themselves to check every allocation.
 #include <sys/mman.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <new>
 
@@ -30,8 +31,9 @@ size_t round_up(size_t bytes, size_t multiple) { return (bytes + multiple - 1) /
 
 void* try_allocate(size_t bytes, size_t alignment) {
   if (bytes >= kHugeFrom) {
-    const size_t rounded = round_up(bytes, kHugePage);
-    void* p = std::aligned_alloc(kHugePage, rounded);
+    const size_t page = std::max(kHugePage, alignment);
+    const size_t rounded = round_up(bytes, page);
+    void* p = std::aligned_alloc(page, rounded);
     if (p) madvise(p, rounded, MADV_HUGEPAGE);
     return p;
   }
