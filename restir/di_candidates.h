@@ -218,7 +218,8 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       const size_t row = size_t(y) * size_t(g.width) + size_t(tile.x0);
       for (int s = 0; s < slots; ++s) {
         const LightTiles::Tile light_tile = tiles ? tiles->tile(tile.x0 + s, y, frame) : LightTiles::Tile{};
-        draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, tiles ? &light_tile : nullptr, batch);
+        draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, tiles ? &light_tile : nullptr,
+                              batch);
       }
       if (params.simd) {
         build_receiver_lanes(batch.surfaces, domain.eye, slots, batch.lanes);

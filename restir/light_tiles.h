@@ -53,8 +53,8 @@ class LightTiles {
   };
 
   // Stage "di_light_tiles": `count` shared tiles (context-free samplers) or one tile per screen block of
-  // `g` (the others), of `size` entries each (0: kSharedTileSize or kRegionTileSize), keyed on (seed, frame, tile, entry) so that they do not
-  // depend on the thread count. Cost: tiles x size light samples (the tree shares the upper levels of a
+  // `g` (the others), of `size` entries each (0: kSharedTileSize or kRegionTileSize), keyed on (seed,
+  // frame, tile, entry) so that they do not depend on the thread count. Cost: tiles x size light samples (the tree shares the upper levels of a
   // tile's descents, sample_lights), plus one pass over the G-buffer's points for region tiles.
   template <LightSampler S>
   void build(const SceneView& view, const S& sampler, const GBuffer& g, int count, int size, uint64_t seed, int frame) {
@@ -116,7 +116,8 @@ class LightTiles {
     }
     sample_lights(sampler, contexts_[size_t(t)], u.data(), chosen.data(), size_);
     DiLightCandidate* out = &entries_[size_t(t) * size_t(size_)];
-    for (int e = 0; e < size_; ++e) out[e] = di_light_candidate(view.scene, view.lights, chosen[size_t(e)], uv[size_t(e)]);
+    for (int e = 0; e < size_; ++e)
+      out[e] = di_light_candidate(view.scene, view.lights, chosen[size_t(e)], uv[size_t(e)]);
   }
 
   int size_ = 0;
