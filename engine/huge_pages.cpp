@@ -5,8 +5,8 @@
 // huge pages are in "madvise" mode), the first touch of each 4 KB page costs about 11 us, about 2.8 ms per
 // MB: building the light tree over 1e6 lights spent 0.8 of its 1.2 s in page faults (its entries, binary
 // and wide nodes, ~280 MB). On 2 MB pages the same memory costs about 0.07 ms per MB (measured with a
-// 256 MB touch loop, 2026-12-02: 720 ms on 4 KB pages, 17-20 ms on huge pages). Fewer pages also means
-// fewer TLB misses for the tree's random descents and the frame's large planes.
+// 256 MB touch loop, 2026-12-02: 720 ms on 4 KB pages, 17-20 ms on huge pages). Fewer pages could also
+// mean fewer TLB misses; the tree's sampling bench showed no change from it.
 //
 // What: a request of kHugeFrom bytes or more is rounded up to whole 2 MB pages, allocated 2 MB-aligned and
 // advised MADV_HUGEPAGE before anyone touches it (madvise is advice: where the kernel declines, the memory
@@ -23,8 +23,8 @@
 namespace {
 
 constexpr size_t kHugePage = size_t(2) << 20;
-// Smaller requests would waste up to half their memory in the rounding; the frame's planes at 640x360 and
-// the tree's arrays over 1e5 lights and more are above this.
+// Smaller requests could waste up to half their memory in the rounding. The tree's arrays from about 1e5
+// lights, the reservoirs of a 640x360 frame and vec3 planes from 1280x720 up are above this.
 constexpr size_t kHugeFrom = 4 * kHugePage;
 
 size_t round_up(size_t bytes, size_t multiple) { return (bytes + multiple - 1) / multiple * multiple; }
