@@ -236,7 +236,7 @@ bool InfiniteLightChoice::choose(double& u, SampledLight& out) const {
 }
 
 LightTreeSampler::LightTreeSampler(const LightList& lights) {
-  CHECK(lights.size() < kLeaf);  // a child holds kLeaf | light index
+  CHECK(lights.size() < kEmpty - kLeaf);  // a child holds kLeaf | light index, never kEmpty
   std::vector<Entry> entries;
   entries.reserve(lights.size());
   std::vector<uint32_t> infinite;
@@ -258,6 +258,7 @@ LightTreeSampler::LightTreeSampler(const LightList& lights) {
   const uint32_t wide_nodes = count_wide_nodes(binary, 0, uint32_t(binary.size()));
   nodes_.reserve(wide_nodes);
   parent_.reserve(wide_nodes);
+  subtree_lights_.reserve(wide_nodes);
   collapse(binary, 0, uint32_t(binary.size()), kNoSlot, 0);
 }
 
@@ -272,8 +273,7 @@ uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint3
   CHECK(index < kNoSlot / kTreeWidth);  // slot references node * 8 + slot fit in 32 bits, below kNoSlot
   nodes_.emplace_back();
   parent_.push_back(up);
-  nodes_[index].count = uint32_t(count);
-  nodes_[index].lights = Span{node, end}.lights();
+  subtree_lights_.push_back(Span{node, end}.lights());
   for (int k = 0; k < count; ++k) {
     const BinaryNode& b = binary[slots[k].node];
     nodes_[index].bounds.set(k, b.bounds);
@@ -288,24 +288,25 @@ uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint3
 
 void LightTreeSampler::child_weights(const Node& node, const ShadingContext& ctx, ChildWeights& out) const {
   // The next level reads one of the interior children: fetch the first line of each while this one computes.
-  for (uint32_t k = 0; k < node.count; ++k)
+  const int count = node.count();
+  for (int k = 0; k < count; ++k)
     if (!(node.child[k] & kLeaf)) __builtin_prefetch(&nodes_[node.child[k]]);
   wide_importance(node.bounds, ctx, out.weight);
   auto accumulate = [&] {
     double sum = 0.0;
-    for (uint32_t k = 0; k < node.count; ++k) out.cumulative[k] = sum += out.weight[k];
+    for (int k = 0; k < count; ++k) out.cumulative[k] = sum += out.weight[k];
     return sum;
   };
   out.sum = accumulate();
   if (!(out.sum > 0.0 && std::isfinite(out.sum))) {
-    for (uint32_t k = 0; k < node.count; ++k) out.weight[k] = node.bounds.phi[k];
+    for (int k = 0; k < count; ++k) out.weight[k] = std::abs(node.bounds.phi[k]);
     out.sum = accumulate();
     if (!(out.sum > 0.0 && std::isfinite(out.sum))) {
-      for (uint32_t k = 0; k < node.count; ++k) out.weight[k] = 1.0f;
+      for (int k = 0; k < count; ++k) out.weight[k] = 1.0f;
       out.sum = accumulate();
     }
   }
-  out.last = int(node.count) - 1;
+  out.last = count - 1;
   while (out.weight[out.last] <= 0.0f) --out.last;
 }
 
@@ -403,10 +404,11 @@ LightBounds LightTreeSampler::refit(const LightList& lights, uint32_t node) {
     slot[k] = child & kLeaf ? light_bounds(lights, child & ~kLeaf) : refit(lights, child);
     n.bounds.set(int(k), slot[k]);
   };
-  if (n.lights > kParallelGrain) parallel_for(0u, n.count, one);
-  else for (uint32_t k = 0; k < n.count; ++k) one(k);
+  const uint32_t count = uint32_t(n.count());
+  if (subtree_lights_[node] > kParallelGrain) parallel_for(0u, count, one);
+  else for (uint32_t k = 0; k < count; ++k) one(k);
   LightBounds all = slot[0];
-  for (uint32_t k = 1; k < n.count; ++k) all = merge(all, slot[k]);
+  for (uint32_t k = 1; k < count; ++k) all = merge(all, slot[k]);
   return all;
 }
 

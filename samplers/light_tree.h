@@ -58,19 +58,24 @@ class LightTreeSampler {
   int depth() const { return max_depth_; }  // levels of wide nodes
   // Bytes the sampler holds (nodes, parent and slot references), for the bench's bytes per light.
   size_t memory_bytes() const {
-    return nodes_.capacity() * sizeof(Node) + (parent_.capacity() + slot_of_.capacity()) * sizeof(uint32_t);
+    return nodes_.capacity() * sizeof(Node) +
+           (parent_.capacity() + subtree_lights_.capacity() + slot_of_.capacity()) * sizeof(uint32_t);
   }
 
  private:
-  // A node: its children's bounds side by side, and what each child is: kLeaf | light index, or the index
-  // of a node. Slots [count, 8) are empty (phi 0).
+  // A node: its children's bounds side by side, and what each child is: kLeaf | light index, the index of
+  // a node, or kEmpty in the slots [count, 8) (phi 0). 384 bytes: 6 cache lines.
+  static constexpr uint32_t kLeaf = 0x80000000u, kEmpty = 0xffffffffu;
   struct alignas(64) Node {
     WideBounds bounds;
-    uint32_t child[kTreeWidth] = {};
-    uint32_t count = 0;
-    uint32_t lights = 0;  // in the subtree
+    uint32_t child[kTreeWidth] = {kEmpty, kEmpty, kEmpty, kEmpty, kEmpty, kEmpty, kEmpty, kEmpty};
+    int count() const {  // children come first; counted without branches
+      int n = 0;
+      for (int k = 0; k < kTreeWidth; ++k) n += child[k] != kEmpty;
+      return n;
+    }
   };
-  static constexpr uint32_t kLeaf = 0x80000000u;
+  static_assert(sizeof(Node) == 384 && kTreeWidth == 8);
   // Builds the wide nodes from the binary tree's subtree at `node` (occupying binary nodes [node, end));
   // returns the new node's index. `up` is the parent's slot reference (node * 8 + slot).
   uint32_t collapse(const std::vector<light_tree_detail::BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up, int depth);
@@ -92,6 +97,7 @@ class LightTreeSampler {
   LightBounds root_;                // bounds of all finite lights
   InfiniteLightChoice infinite_;
   std::vector<uint32_t> parent_;    // per node: the slot reference (node * 8 + slot) that points to it
+  std::vector<uint32_t> subtree_lights_;  // per node: lights below it (refit's parallel split)
   std::vector<uint32_t> slot_of_;   // per light: its slot reference (none for infinite and powerless lights)
   int max_depth_ = 0;
 };

@@ -42,7 +42,8 @@ void WideImportance(const WideBounds& b, const ShadingContext& ctx, float* out) 
   const vec3& p = ctx.position;
   const vec3& n = ctx.normal;
   for (int s = 0; s < kTreeWidth; s += int(hn::Lanes(d))) {
-    const V phi = hn::Load(d, b.phi + s), radius = hn::Add(hn::Load(d, b.radius + s), hn::Set(d, ctx.radius));
+    const V signed_phi = hn::Load(d, b.phi + s);
+    const V phi = hn::Abs(signed_phi), radius = hn::Add(hn::Load(d, b.radius + s), hn::Set(d, ctx.radius));
     V3 t{hn::Sub(hn::Set(d, p.x), hn::Load(d, b.cx + s)), hn::Sub(hn::Set(d, p.y), hn::Load(d, b.cy + s)),
          hn::Sub(hn::Set(d, p.z), hn::Load(d, b.cz + s))};
     const V dist2 = dot(t, t);
@@ -60,7 +61,7 @@ void WideImportance(const WideBounds& b, const ShadingContext& ctx, float* out) 
     // theta_w - theta_o - theta_b, then the emission cut-off theta_e.
     const V3 w{hn::Load(d, b.wx + s), hn::Load(d, b.wy + s), hn::Load(d, b.wz + s)};
     V cos_w = hn::Mul(dot(w, t), inv_dist);
-    cos_w = hn::IfThenElse(hn::Gt(hn::Load(d, b.two_sided + s), zero), hn::Abs(cos_w), cos_w);
+    cos_w = hn::IfThenElse(hn::Lt(signed_phi, zero), hn::Abs(cos_w), cos_w);
     const V3 w_cross = cross(w, t);
     const V sin_w = hn::Mul(hn::Sqrt(dot(w_cross, w_cross)), inv_dist);
     const V cos_o = hn::Load(d, b.cos_o + s), sin_o = hn::Load(d, b.sin_o + s);
@@ -99,8 +100,8 @@ WideBounds::WideBounds() {
 
 void WideBounds::set(int s, const LightBounds& b) {
   cx[s] = b.center.x, cy[s] = b.center.y, cz[s] = b.center.z, radius[s] = b.radius;
-  wx[s] = b.w.x, wy[s] = b.w.y, wz[s] = b.w.z, phi[s] = b.phi;
-  cos_o[s] = b.cos_theta_o, sin_o[s] = b.sin_theta_o, cos_e[s] = b.cos_theta_e, two_sided[s] = b.two_sided ? 1.0f : 0.0f;
+  wx[s] = b.w.x, wy[s] = b.w.y, wz[s] = b.w.z, phi[s] = b.two_sided ? -b.phi : b.phi;
+  cos_o[s] = b.cos_theta_o, sin_o[s] = b.sin_theta_o, cos_e[s] = b.cos_theta_e;
 }
 
 }  // namespace candela

@@ -9,12 +9,13 @@ namespace candela {
 
 constexpr int kTreeWidth = 8;
 
-// The bounds of up to 8 siblings side by side (structure of arrays, 384 bytes); an empty slot has phi 0
-// and so importance 0.
-struct alignas(64) WideBounds {
+// The bounds of up to 8 siblings side by side (structure of arrays, 352 bytes, so that a tree node with its
+// children's references fills 6 cache lines); an empty slot has phi 0 and so importance 0.
+struct alignas(32) WideBounds {
   float cx[kTreeWidth], cy[kTreeWidth], cz[kTreeWidth], radius[kTreeWidth];
-  float wx[kTreeWidth], wy[kTreeWidth], wz[kTreeWidth], phi[kTreeWidth];
-  float cos_o[kTreeWidth], sin_o[kTreeWidth], cos_e[kTreeWidth], two_sided[kTreeWidth];  // two_sided: 0 or 1
+  float wx[kTreeWidth], wy[kTreeWidth], wz[kTreeWidth];
+  float phi[kTreeWidth];  // the power, negative for two-sided emitters
+  float cos_o[kTreeWidth], sin_o[kTreeWidth], cos_e[kTreeWidth];
 
   WideBounds();  // every slot empty
   void set(int slot, const LightBounds& b);
