@@ -56,7 +56,7 @@ class LightTreeSampler {
 
   size_t node_count() const { return nodes_.size(); }
   int depth() const { return max_depth_; }  // levels of wide nodes
-  // Bytes the sampler holds (nodes, parent and slot references), for the bench's bytes per light.
+  // Bytes the sampler holds (nodes; parent, subtree and slot references), for the bench's bytes per light.
   size_t memory_bytes() const {
     return nodes_.capacity() * sizeof(Node) +
            (parent_.capacity() + subtree_lights_.capacity() + slot_of_.capacity()) * sizeof(uint32_t);
