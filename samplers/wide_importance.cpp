@@ -14,6 +14,10 @@ namespace hn = hwy::HWY_NAMESPACE;
 using D = hn::CappedTag<float, kTreeWidth>;
 using V = hn::Vec<D>;
 
+// The helpers have internal linkage: restir/lanes-inl.h declares a V3 and a dot of its own (over full-width
+// vectors) in this same namespace, and two external definitions of one name would be merged by the linker.
+namespace {
+
 // light_bounds_detail::safe_sqrt. (x86's max returns its second operand unless the first is greater:
 // Max(x, 0) is std::max(0.0f, x) also for -0 and NaN, Max(0, x) is std::max(x, 0.0f).)
 V safe_sqrt(D d, V x) { return hn::Sqrt(hn::Max(x, hn::Zero(d))); }
@@ -35,6 +39,8 @@ V3 cross(const V3& a, const V3& b) {
   return {hn::Sub(hn::Mul(a.y, b.z), hn::Mul(b.y, a.z)), hn::Sub(hn::Mul(a.z, b.x), hn::Mul(b.z, a.x)),
           hn::Sub(hn::Mul(a.x, b.y), hn::Mul(b.x, a.y))};
 }
+
+}  // namespace
 
 void WideImportance(const WideBounds& b, const ShadingContext& ctx, float* out) {
   const D d;
