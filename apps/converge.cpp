@@ -1,6 +1,7 @@
 #include "apps/converge.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,18 +18,30 @@ namespace candela {
 const std::vector<ConvergeMethod>& converge_methods() {
   static const std::vector<ConvergeMethod> methods = [] {
     std::vector<ConvergeMethod> m;
-    for (const char* sampler : {"uniform", "power", "tree"})
-      m.push_back({std::string("direct-") + sampler, Transport::Direct, [kind = light_sampler_names().at(sampler)](RenderSettings& s) {
-                     s.method = Method::Direct;
-                     s.light_sampler = kind;
-                   }});
+    for (SampleSequence sequence : {SampleSequence::Independent, SampleSequence::Sobol}) {
+      const std::string suffix = sequence == SampleSequence::Sobol ? "-sobol" : "";
+      for (const char* sampler : {"uniform", "power", "tree"})
+        m.push_back({std::string("direct-") + sampler + suffix, Transport::Direct,
+                     [kind = light_sampler_names().at(sampler), sequence](RenderSettings& s) {
+                       s.method = Method::Direct;
+                       s.light_sampler = kind;
+                       s.sampler = sequence;
+                     }});
+    }
     for (const char* bias : {"none", "basic", "pairwise"})
       m.push_back({std::string("restir-di-") + bias, Transport::Direct, [mode = di_bias_names().at(bias)](RenderSettings& s) {
                      s.method = Method::RestirDi;
                      s.di_reuse.temporal = s.di_reuse.spatial = true;
                      s.di_reuse.bias = mode;
                    }});
-    m.push_back({"pt", Transport::Full, [](RenderSettings& s) { s.method = Method::PathTrace; }});
+    m.push_back({"pt", Transport::Full, [](RenderSettings& s) {
+                   s.method = Method::PathTrace;
+                   s.sampler = SampleSequence::Independent;
+                 }});
+    m.push_back({"pt-sobol", Transport::Full, [](RenderSettings& s) {
+                   s.method = Method::PathTrace;
+                   s.sampler = SampleSequence::Sobol;
+                 }});
     m.push_back({"restir", Transport::Full, [](RenderSettings& s) {
                    s.method = Method::Restir;
                    s.di_reuse.temporal = s.di_reuse.spatial = s.gi_reuse.temporal = s.gi_reuse.spatial = true;
@@ -39,13 +52,39 @@ const std::vector<ConvergeMethod>& converge_methods() {
   return methods;
 }
 
-const ConvergeMethod& converge_method_named(const std::string& name) {
+ConvergeMethod converge_method_named(const std::string& name) {
+  // "METHOD+DENOISER": the method's frames, finished by the denoiser (what a viewer shows).
+  const size_t plus = name.find('+');
+  const std::string base = name.substr(0, plus);
   std::string names;
   for (const ConvergeMethod& m : converge_methods()) {
-    if (m.name == name) return m;
     names += (names.empty() ? "" : ", ") + m.name;
+    if (m.name != base) continue;
+    if (plus == std::string::npos) return m;
+    const std::string denoiser = name.substr(plus + 1);
+    auto kind = denoiser_names().find(denoiser);
+    if (kind == denoiser_names().end() || kind->second == DenoiserKind::None)
+      throw InputError("--methods: unknown denoiser '" + denoiser + "' in '" + name + "' (known: bilateral, svgf)");
+    return {name, m.transport, [configure = m.configure, kind = kind->second](RenderSettings& s) {
+              configure(s);
+              s.denoise.kind = kind;
+            }};
   }
-  throw InputError("--methods: unknown method '" + name + "' (known: " + names + ")");
+  throw InputError("--methods: unknown method '" + base + "' (known: " + names + ", each optionally followed by "
+                   "+bilateral or +svgf)");
+}
+
+double time_to_error(const std::vector<ConvergePoint>& points, double target) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    const ConvergePoint& p = points[i];
+    if (p.error.rel_mse > target) continue;
+    if (i == 0) return p.time_ms;
+    const ConvergePoint& q = points[i - 1];
+    // log relMSE is linear in log time between the two points around the target.
+    const double t = std::log(target / q.error.rel_mse) / std::log(p.error.rel_mse / q.error.rel_mse);
+    return std::exp(std::log(q.time_ms) + t * (std::log(p.time_ms) - std::log(q.time_ms)));
+  }
+  return -1.0;
 }
 
 std::vector<ConvergePoint> run_convergence(const Scene& scene, const ConvergeMethod& method, const RenderSettings& base,
@@ -85,6 +124,7 @@ Image render_reference(const Scene& scene, Transport transport, const RenderSett
   settings.light_sampler = sampler;
   settings.spp = spp;
   settings.seed = seed;
+  settings.sampler = SampleSequence::Independent;  // another estimator than a Sobol method's own
   settings.time_budget_ms = 0.0;
   Renderer renderer(scene, settings);
   renderer.render_frame(0, 0.0f, scene.default_camera());
@@ -125,16 +165,46 @@ Image reference_for(const ConvergeOptions& o, const Scene& scene, Transport tran
   return image;
 }
 
-void write_csv(const std::string& path, const std::vector<ConvergePoint>& points) {
+// Each method's time to the target relMSE (time_to_error), in the order the methods ran.
+std::map<std::string, double> times_to_target(const std::vector<ConvergePoint>& points, double target) {
+  std::map<std::string, std::vector<ConvergePoint>> by_method;
+  for (const ConvergePoint& p : points) by_method[p.method].push_back(p);
+  std::map<std::string, double> out;
+  for (const auto& [method, run] : by_method) out[method] = time_to_error(run, target);
+  return out;
+}
+
+// The time-to-error table on stderr: per method the time to the target and how many times longer that is
+// than the fastest method's.
+void print_time_to_target(const std::vector<ConvergePoint>& points, const std::map<std::string, double>& times,
+                          double target) {
+  double fastest = -1.0;
+  for (const auto& [method, t] : times)
+    if (t >= 0.0 && (fastest < 0.0 || t < fastest)) fastest = t;
+  std::fprintf(stderr, "time to relMSE %.3g:\n", target);
+  std::string last;
+  for (const ConvergePoint& p : points) {
+    if (p.method == last) continue;
+    last = p.method;
+    const double t = times.at(p.method);
+    if (t < 0.0) std::fprintf(stderr, "  %-26s not reached\n", p.method.c_str());
+    else std::fprintf(stderr, "  %-26s %10.1f ms  %6.2fx the fastest\n", p.method.c_str(), t, t / fastest);
+  }
+}
+
+void write_csv(const std::string& path, const std::vector<ConvergePoint>& points, const std::map<std::string, double>& times) {
   std::filesystem::path target(path), tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
   {
     std::ofstream f(tmp);
     if (!f) throw InputError(path + ": cannot open for writing");
     f.precision(8);
-    f << "method,samples,time_ms,mse,rel_mse,mean_difference,standard_error\n";
-    for (const ConvergePoint& p : points)
+    f << "method,samples,time_ms,mse,rel_mse,mean_difference,standard_error,time_to_target_ms\n";
+    for (const ConvergePoint& p : points) {
       f << p.method << ',' << p.samples << ',' << p.time_ms << ',' << p.error.mse << ',' << p.error.rel_mse << ','
-        << p.error.mean_difference << ',' << p.error.standard_error << '\n';
+        << p.error.mean_difference << ',' << p.error.standard_error << ',';
+      if (times.at(p.method) >= 0.0) f << times.at(p.method);
+      f << '\n';
+    }
     if (!f) throw InputError(path + ": write failed");
   }
   std::filesystem::rename(tmp, target);
@@ -160,8 +230,8 @@ LogLogPlot error_plot(const ConvergeOptions& o, const std::vector<ConvergePoint>
 
 int run_converge(const ConvergeOptions& o) {
   // Everything that can fail on input fails before the first render.
-  std::vector<const ConvergeMethod*> methods;
-  for (const std::string& name : o.methods) methods.push_back(&converge_method_named(name));
+  std::vector<ConvergeMethod> methods;
+  for (const std::string& name : o.methods) methods.push_back(converge_method_named(name));
   if (!o.plot.empty() && find_gnuplot().empty())
     throw InputError("--plot " + o.plot + ": gnuplot is not on PATH (Debian: apt-get install gnuplot-nox)");
   for (const std::string& path : {o.csv, o.plot}) {
@@ -180,14 +250,14 @@ int run_converge(const ConvergeOptions& o) {
   // References rendered once per (transport, light sampler); a given EXR serves every method of its transport.
   std::map<std::pair<Transport, LightSamplerKind>, Image> references;
   for (Transport transport : {Transport::Direct, Transport::Full}) {
-    for (const ConvergeMethod* m : methods) {
-      if (m->transport != transport) continue;
+    for (const ConvergeMethod& m : methods) {
+      if (m.transport != transport) continue;
       const std::string& given = transport == Transport::Direct ? o.reference_direct : o.reference;
-      const LightSamplerKind sampler = given.empty() ? reference_light_sampler(*m, o.base) : LightSamplerKind::Power;
+      const LightSamplerKind sampler = given.empty() ? reference_light_sampler(m, o.base) : LightSamplerKind::Power;
       auto key = std::make_pair(transport, sampler);
       if (!references.count(key)) references.emplace(key, reference_for(o, scene, transport, sampler));
       const Image& reference = references.at(key);
-      std::vector<ConvergePoint> run = run_convergence(scene, *m, o.base, counts, reference, o.max_seconds);
+      std::vector<ConvergePoint> run = run_convergence(scene, m, o.base, counts, reference, o.max_seconds);
       if (!o.quiet)
         for (const ConvergePoint& p : run)
           std::fprintf(stderr, "%-20s %5d spp %9.1f ms  MSE %.3e  relMSE %.3e  bias %+.2e +- %.2e\n", p.method.c_str(), p.samples,
@@ -195,7 +265,9 @@ int run_converge(const ConvergeOptions& o) {
       points.insert(points.end(), run.begin(), run.end());
     }
   }
-  write_csv(o.csv, points);
+  const std::map<std::string, double> times = times_to_target(points, o.target_rel_mse);
+  if (!o.quiet) print_time_to_target(points, times, o.target_rel_mse);
+  write_csv(o.csv, points, times);
   if (!o.plot.empty()) draw_log_log_plot(error_plot(o, points), o.plot);
   if (!o.quiet) std::fprintf(stderr, "wrote %s%s%s\n", o.csv.c_str(), o.plot.empty() ? "" : " and ", o.plot.c_str());
   return 0;

@@ -24,11 +24,15 @@ struct ConvergeMethod {
   std::function<void(RenderSettings&)> configure;  // sets method and options on top of the base settings
 };
 
-// direct-uniform, direct-power, direct-tree (light sampler + BSDF sample, MIS), restir-di-none,
+// direct-uniform, direct-power, direct-tree (light sampler + BSDF sample, MIS) and their -sobol twins
+// (Owen-scrambled Sobol numbers, the others independent ones), restir-di-none,
 // restir-di-basic, restir-di-pairwise (temporal and spatial reuse, candidates from the base light
-// sampler), pt (path tracer, base light sampler), restir (ReSTIR DI + GI, pairwise, paths of max_depth).
+// sampler), pt and pt-sobol (path tracer, base light sampler), restir (ReSTIR DI + GI, pairwise, paths of max_depth).
 const std::vector<ConvergeMethod>& converge_methods();
-const ConvergeMethod& converge_method_named(const std::string& name);  // throws InputError listing the names
+// A method of converge_methods() by name, optionally followed by "+bilateral" or "+svgf" (its frames,
+// denoised: the error of what a viewer shows); throws InputError listing the names.
+ConvergeMethod converge_method_named(const std::string& name);
+
 
 struct ConvergePoint {
   std::string method;
@@ -56,6 +60,11 @@ LightSamplerKind reference_light_sampler(const ConvergeMethod& method, const Ren
 Image render_reference(const Scene& scene, Transport transport, const RenderSettings& base, LightSamplerKind sampler,
                        int spp, uint64_t seed);
 
+// The wall time (ms) at which `points` (one method, by increasing samples) first reach relMSE `target`:
+// log-log interpolation between the last point above it and the first at or below; the first point's
+// time if that one is already below; -1 if none reaches it.
+double time_to_error(const std::vector<ConvergePoint>& points, double target);
+
 // Log-log least-squares slope of MSE against samples over the points with lo <= samples <= hi.
 double mse_slope(const std::vector<ConvergePoint>& points, int lo, int hi);
 
@@ -68,6 +77,7 @@ struct ConvergeOptions {
   int reference_spp = 1024;
   int max_spp = 256;
   double max_seconds = 0.0;
+  double target_rel_mse = 0.01;  // the time-to-error summary's relMSE
   std::string csv, plot;
   bool quiet = false;
   RenderSettings base;

@@ -41,6 +41,7 @@ struct RenderOptions {
   bool quiet = false;
   std::string method = "pt";
   std::string light_sampler = "power";
+  std::string sampler = "sobol";
   std::string di_reuse = "both";
   std::string di_bias = "pairwise";
   std::string gi_reuse = "both";
@@ -108,6 +109,7 @@ void resolve_settings(RenderOptions& o) {
   if (int64_t(o.settings.width) * o.settings.height > (int64_t(1) << 26))
     throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
   o.settings.light_sampler = light_sampler_names().at(o.light_sampler);
+  o.settings.sampler = sampler_names().at(o.sampler);
   o.settings.denoise.kind = denoiser_names().at(o.denoise);
   set_reuse(o.di_reuse, o.di_bias, o.settings.di_reuse);
   set_reuse(o.gi_reuse, o.gi_bias, o.settings.gi_reuse);
@@ -245,6 +247,10 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
       ->check(CLI::IsMember(keys_of(denoiser_names())))->capture_default_str();
   cmd->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
       ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();
+  cmd->add_option("--sampler", r.sampler,
+                  "direct and pt: where paths' random numbers come from: independent (PCG32) or sobol (Owen-scrambled "
+                  "Sobol points, stratified within each pixel's samples)")
+      ->check(CLI::IsMember(keys_of(sampler_names())))->capture_default_str();
   cmd->add_option("--time-budget-ms", r.settings.time_budget_ms,
                      "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds (overrides --spp)")
       ->check(CLI::Range(0.0, 1e9));
@@ -343,13 +349,14 @@ int main(int argc, char** argv) {
   std::string converge_light_sampler = "tree";
   CLI::App* converge = app.add_subcommand("converge", "Error against samples and time of each method: CSV and a log-log plot");
   converge->add_option("scene", c.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
-  converge->add_option("--csv", c.csv, "Output CSV: method, samples, time_ms, mse, rel_mse, mean_difference, standard_error")
+  converge->add_option("--csv", c.csv, "Output CSV: method, samples, time_ms, mse, rel_mse, mean_difference, standard_error, time_to_target_ms")
       ->required();
   converge->add_option("--plot", c.plot, "Output PNG: relMSE against time, log-log, one line per method (needs gnuplot)");
-  converge->add_option("--methods", c.methods, "Methods to run (direct-uniform, direct-power, direct-tree, restir-di-none, "
-                                               "restir-di-basic, restir-di-pairwise, pt, restir)")
+  converge->add_option("--methods", c.methods, "Methods to run (direct-uniform, direct-power, direct-tree, their -sobol "
+                                               "twins, restir-di-none, restir-di-basic, restir-di-pairwise, pt, pt-sobol, "
+                                               "restir; any followed by +bilateral or +svgf: denoised)")
       ->delimiter(',')->capture_default_str();
-  converge->add_option("--reference", c.reference, "Converged full-transport EXR for pt (default: rendered)")->check(CLI::ExistingFile);
+  converge->add_option("--reference", c.reference, "Converged full-transport EXR for pt and restir (any renderer's, same size; default: rendered)")->check(CLI::ExistingFile);
   converge->add_option("--reference-direct", c.reference_direct,
                        "Converged direct-light EXR for direct-* and restir-di-* (default: rendered with --method direct)")
       ->check(CLI::ExistingFile);
@@ -357,6 +364,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1 << 20))->capture_default_str();
   converge->add_option("--max-spp", c.max_spp, "Largest sample count; counts are 1, 2, 4, ... up to it")
       ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  converge->add_option("--target-rel-mse", c.target_rel_mse,
+                       "The time-to-error summary: each method's wall time to this relMSE (log-log interpolated)")
+      ->check(CLI::Range(1e-12, 1e12))->capture_default_str();
   converge->add_option("--max-seconds", c.max_seconds, "Stop a method after the count at which it passed this time (0 = off)")
       ->check(CLI::Range(0.0, 1e9))->capture_default_str();
   converge->add_option("--width", c.base.width, "Image width")->check(CLI::Range(1, 16384))->capture_default_str();

@@ -99,6 +99,7 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   stats.frame = frame_index;
   auto start = std::chrono::steady_clock::now();
   update_scene(time, camera, stats);
+  if (accumulated_spp_ == 0) sample_epoch_ = uint64_t(frame_index);  // a new run of samples, new scrambles
   {
     StageTimer timer(stats, "gbuffer");
     trace_gbuffer(scene_, *tracer_, camera_, prev_camera_, GBufferParams{settings_.seed, frame_index, settings_.jitter}, gbuffer_,
@@ -143,6 +144,8 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, 
   params.max_depth = settings_.method == Method::Direct ? 1 : settings_.max_depth;
   params.seed = settings_.seed;
   params.jitter = settings_.jitter;
+  params.sequence = settings_.sampler;
+  params.epoch = sample_epoch_;
   std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays(), timer.non_finite()); }, sampler_);
 }
 

@@ -52,6 +52,7 @@ struct RenderSettings {
   LightSamplerKind light_sampler = LightSamplerKind::Power;
   bool accumulate = true;      // progressive accumulation while camera and scene stay still
   bool jitter = true;          // G-buffer rays through jittered positions (false: pixel centres)
+  SampleSequence sampler = SampleSequence::Sobol;  // direct and pt: Sobol or independent numbers
   double time_budget_ms = 0.0; // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
   DiParams di;                 // restir-di: initial candidates
   DiReuseParams di_reuse;      // restir-di: temporal and spatial reuse
@@ -116,6 +117,7 @@ class Renderer {
   Restir restir_;
   Image sum_;
   int accumulated_spp_ = 0;
+  uint64_t sample_epoch_ = 0;  // frame that began the current accumulation (keys the Sobol scrambles)
   Denoiser denoiser_;
   Image denoised_;
 };

@@ -14,6 +14,11 @@ const std::map<std::string, LightSamplerKind>& light_sampler_names() {
   return names;
 }
 
+const std::map<std::string, SampleSequence>& sampler_names() {
+  static const std::map<std::string, SampleSequence> names = {{"independent", SampleSequence::Independent}, {"sobol", SampleSequence::Sobol}};
+  return names;
+}
+
 const std::map<std::string, DenoiserKind>& denoiser_names() {
   static const std::map<std::string, DenoiserKind> names = {{"none", DenoiserKind::None}, {"bilateral", DenoiserKind::Bilateral},
                                                             {"svgf", DenoiserKind::Svgf}};

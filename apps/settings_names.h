@@ -11,6 +11,7 @@ namespace candela {
 
 const std::map<std::string, Method>& method_names();
 const std::map<std::string, LightSamplerKind>& light_sampler_names();
+const std::map<std::string, SampleSequence>& sampler_names();
 const std::map<std::string, DenoiserKind>& denoiser_names();
 const std::map<std::string, DiBiasCorrection>& di_bias_names();
 // "none", "temporal", "spatial", "both": which reuse stages of a reservoir chain (ReSTIR DI's or GI's) run.

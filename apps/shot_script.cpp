@@ -201,6 +201,7 @@ void read_render_settings(ObjectReader& r, ShotScript& s) {
   st.max_depth = r.integer("max_depth", 1, 1024, st.max_depth);
   st.method = r.named("method", method_names(), st.method);
   st.light_sampler = r.named("light_sampler", light_sampler_names(), st.light_sampler);
+  st.sampler = r.named("sampler", sampler_names(), st.sampler);
   st.denoise.kind = r.named("denoise", denoiser_names(), st.denoise.kind);
   st.jitter = r.flag("jitter", st.jitter);
   st.accumulate = false;

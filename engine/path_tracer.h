@@ -12,6 +12,7 @@
 #include "engine/light_sampler.h"
 #include "engine/lights.h"
 #include "engine/rng.h"
+#include "engine/sobol.h"
 #include "engine/surface.h"
 #include "engine/tiles.h"
 
@@ -24,6 +25,8 @@ struct PathTracerParams {
   int rr_start_depth = 3;  // Russian roulette from this bounce on (keeps deep paths unbiased)
   uint64_t seed = 0;
   bool jitter = true;      // false: every path starts through its pixel's centre (no anti-aliasing)
+  SampleSequence sequence = SampleSequence::Independent;
+  uint64_t epoch = 0;      // Sobol: the scrambles' key besides seed and pixel; one per run of first_sample
 };
 
 // Everything a frame's estimators read about the scene, fixed for the frame.
@@ -41,12 +44,12 @@ inline float power_heuristic(float a, float b) {
 
 // Next-event estimation at one surface point: picks a light with the sampler, samples a point on it,
 // traces one shadow ray and returns the MIS-weighted contribution (without the path throughput).
-template <LightSampler S>
+template <LightSampler S, class Stream>
 vec3 estimate_direct_light(const SceneView& view, const S& sampler, const SurfacePoint& sp, const Bsdf& bsdf,
-                           const vec3& wo, Rng& rng, uint64_t& rays) {
+                           const vec3& wo, Stream& rng, uint64_t& rays) {
   ShadingContext ctx{sp.position, sp.shading_normal};
-  SampledLight chosen = sampler.sample(ctx, vec2(rng.next_float(), rng.next_float()));
-  vec2 u(rng.next_float(), rng.next_float());
+  SampledLight chosen = sampler.sample(ctx, rng.next_2d());
+  vec2 u = rng.next_2d();
   if (chosen.pmf <= 0.0f) return vec3(0.0f);
   LightSample ls = view.lights.sample(view.scene, chosen.index, sp.position, u);
   if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return vec3(0.0f);
@@ -75,9 +78,9 @@ struct PathStart {
 // heuristic, Russian roulette, at most params.max_depth bounces counted from the camera; NaN when the
 // path's throughput overflowed (callers drop and count non-finite results). `first_hit`, if given,
 // receives the surface the ray hits first (stays empty on a miss).
-template <LightSampler S>
+template <LightSampler S, class Stream>
 vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams& params, const PathStart& start,
-                Rng& rng, uint64_t& rays, std::optional<SurfacePoint>* first_hit = nullptr) {
+                Stream& rng, uint64_t& rays, std::optional<SurfacePoint>* first_hit = nullptr) {
   Ray ray = start.ray;
   vec3 L(0.0f), beta(1.0f);
   float prev_bsdf_pdf = start.bsdf_pdf;
@@ -111,7 +114,7 @@ vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams&
 
     // Continue the path by sampling the BSDF.
     BsdfSample bs;
-    vec2 u(rng.next_float(), rng.next_float());
+    vec2 u = rng.next_2d();
     if (!bsdf.sample(wo, u, rng.next_float(), bs)) break;
     if (glm::dot(bs.wi, sp.geometric_normal) <= 0.0f) break;
     beta *= bs.f * (std::abs(glm::dot(bs.wi, sp.shading_normal)) / bs.pdf);
@@ -133,21 +136,31 @@ vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams&
 // Stage: adds params.spp path samples per pixel into `sum` (running sum of radiance; divide by the total
 // sample count to display); a non-finite sample is dropped and counted in `non_finite`. Reads the scene
 // view; traces about spp * (1 + 2 * depth) rays per pixel.
-// Randomness is keyed on (seed, pixel, frame, sample), so the result does not depend on thread count.
+// Randomness is keyed on (seed, pixel, frame, sample) (Sobol: (seed, pixel, epoch) and the sample as the
+// sequence index), so the result does not depend on thread count.
 template <LightSampler S>
 void path_trace(const SceneView& view, const S& sampler, const PathTracerParams& params, int frame, Image& sum,
                 RayCounter& rays, Counter& non_finite) {
   for_each_pixel(view.camera.width(), view.camera.height(), rays, [&](size_t pixel, int x, int y) {
     uint64_t traced = 0;
     vec3 acc(0.0f);
-    for (int s = 0; s < params.spp; ++s) {
-      Rng rng = Rng::for_key(params.seed, pixel, uint64_t(params.first_sample + s), uint64_t(frame));
-      vec2 offset(rng.next_float(), rng.next_float());
+    auto one_path = [&](auto& stream) {
+      vec2 offset = stream.next_2d();
       vec2 film = vec2(x, y) + (params.jitter ? offset : vec2(0.5f));
       PathStart start{Ray{view.camera.position(), view.camera.direction(film.x, film.y), 0.0f, kInfinity}};
-      vec3 L = trace_path(view, sampler, params, start, rng, traced);
+      vec3 L = trace_path(view, sampler, params, start, stream, traced);
       if (is_finite(L)) acc += L;
       else non_finite.add(1);
+    };
+    for (int s = 0; s < params.spp; ++s) {
+      const uint64_t sample = uint64_t(params.first_sample + s);
+      if (params.sequence == SampleSequence::Sobol) {
+        SobolStream stream = SobolStream::for_pixel(params.seed, pixel, params.epoch, uint32_t(sample));
+        one_path(stream);
+      } else {
+        Rng stream = Rng::for_key(params.seed, pixel, sample, uint64_t(frame));
+        one_path(stream);
+      }
     }
     sum.pixels[pixel] += acc;
     return traced;

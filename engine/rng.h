@@ -3,6 +3,8 @@
 // stream), never on which thread or in which order tiles run, so images are identical for any thread count.
 #include <cstdint>
 
+#include "engine/math.h"
+
 namespace candela {
 
 // 64-bit mix (SplitMix64 finaliser, Steele et al. 2014).
@@ -36,6 +38,8 @@ class Rng {
   }
   // Uniform float in [0, 1).
   float next_float() { return float(next_u32() >> 8) * 0x1p-24f; }
+  // Two of them, for a 2D decision (the interface engine/sobol.h's streams share).
+  vec2 next_2d() { return vec2(next_float(), next_float()); }
 
  private:
   uint64_t state_, inc_;

@@ -4,15 +4,18 @@
 //    [-1.2, -0.8];
 //  - their image mean agrees with a reference rendered by a different estimator (another light sampler,
 //    see reference_light_sampler), so that a method's bias cannot hide in its own reference;
-//  - ReSTIR DI beats the light tree's `direct` estimator at equal samples (accumulated 1-spp frames).
+//  - ReSTIR DI beats the light tree's `direct` estimator at equal samples (accumulated 1-spp frames);
+//  - Sobol numbers beat independent ones at 16 samples (here and on the shared occluded_room).
 #include <gtest/gtest.h>
 
 #include <map>
 #include <utility>
 
 #include "apps/converge.h"
+#include "apps/scene_source.h"
 #include "apps/settings_names.h"
 #include "engine/builtin_scenes.h"
+#include "tests/test_util.h"
 
 namespace candela {
 namespace {
@@ -166,6 +169,49 @@ TEST_F(Convergence, RestirDiBeatsTreeAtEqualSamples) {
                 restir[i].error.rel_mse, tree[i].error.rel_mse, restir[i].error.rel_mse / tree[i].error.rel_mse);
   EXPECT_LT(restir[0].error.rel_mse, 0.7 * tree[0].error.rel_mse) << "one frame";
   EXPECT_LT(restir[1].error.rel_mse, tree[1].error.rel_mse) << "two frames";
+}
+
+// relMSE at N = 16 of `method` on `scene` against `reference`, averaged over `runs` seeds.
+double rel_mse_at_16(const Scene& scene, const RenderSettings& base, const std::string& method, const Image& reference,
+                     int runs) {
+  double sum = 0.0;
+  for (int run = 0; run < runs; ++run) {
+    RenderSettings s = base;
+    s.seed += uint64_t(run);
+    sum += run_convergence(scene, converge_method_named(method), s, {16}, reference).back().error.rel_mse;
+  }
+  return sum / runs;
+}
+
+// Owen-scrambled Sobol numbers (engine/sobol.h) against independent ones: direct light with the tree at
+// N = 16 accumulated samples, relMSE averaged over 8 seeds, against a 4096-spp reference with power
+// selection (independent numbers), at pixel centres and jittered (the reference jittered too). The Sobol
+// run must be at least 1.3x better (the target is 1.5x; the margin covers a smaller image than
+// the study's and 8 seeds). Measured (2026-12-02) on manylights 256 lights 48x27: 1.72x at pixel centres,
+// 1.57x jittered; on occluded_room 64x36: 1.63x, 1.61x. Independent numbers in both runs give 1.0x.
+void expect_sobol_beats_independent(const Scene& scene, RenderSettings base, const char* scene_name) {
+  for (bool jitter : {false, true}) {
+    base.jitter = jitter;
+    const Image reference = render_reference(scene, Transport::Direct, base, LightSamplerKind::Power, 4096, 7919);
+    const double independent = rel_mse_at_16(scene, base, "direct-tree", reference, 8);
+    const double sobol = rel_mse_at_16(scene, base, "direct-tree-sobol", reference, 8);
+    std::printf("%s, %s: relMSE at 16 samples, direct-tree %.4e, direct-tree-sobol %.4e: %.2fx lower\n", scene_name,
+                jitter ? "jittered" : "pixel centres", independent, sobol, independent / sobol);
+    EXPECT_GT(independent / sobol, 1.3) << scene_name << (jitter ? ", jittered" : ", pixel centres");
+  }
+}
+
+TEST_F(Convergence, SobolBeatsIndependentAt16Samples) { expect_sobol_beats_independent(*scene_, *base_, "manylights"); }
+
+TEST(ConvergenceShared, SobolBeatsIndependentAt16Samples) {
+  const std::string path = testing::shared_scene_file("occluded_room/occluded_room.gltf");
+  if (path.empty()) GTEST_SKIP() << testing::shared_scenes_skip_reason();
+  RenderSettings base;
+  base.width = 64;
+  base.height = 36;
+  base.light_sampler = LightSamplerKind::Tree;
+  base.seed = 3;
+  expect_sobol_beats_independent(load_scene(path), base, "occluded_room");
 }
 
 }  // namespace
