@@ -122,7 +122,7 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
       std::visit([&](const auto& sampler) {
         restir_.pass(view, sampler, gbuffer_, restir_frame(), frame_index, done, stats, sum_);
       }, sampler_);
-    else path_trace_pass(view, frame_index, pass, stats);
+    else path_trace_pass(view, frame_index, done, pass, stats);
     done += pass;
     accumulated_spp_ += pass;
     if (progress) progress(done, settings_.time_budget_ms > 0.0 ? 0 : settings_.spp);
@@ -136,7 +136,7 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
 }
 
 // Stage "path_trace": `spp` paths per pixel (max depth 1 for the direct method) added into the sum.
-void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, FrameStats& stats) {
+void Renderer::path_trace_pass(const SceneView& view, int frame_index, int done, int spp, FrameStats& stats) {
   StageTimer timer(stats, "path_trace");
   PathTracerParams params;
   params.spp = spp;
@@ -146,6 +146,11 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int spp, 
   params.jitter = settings_.jitter;
   params.sequence = settings_.sampler;
   params.epoch = sample_epoch_;
+  if (settings_.sampler == SampleSequence::ZSobol) {  // one screen-wide sequence per frame
+    params.first_sample = done;
+    params.epoch = uint64_t(frame_index);
+    while ((1 << params.log2_samples) < settings_.spp && params.log2_samples < 6) ++params.log2_samples;
+  }
   std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays(), timer.non_finite()); }, sampler_);
 }
 

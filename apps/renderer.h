@@ -52,7 +52,7 @@ struct RenderSettings {
   LightSamplerKind light_sampler = LightSamplerKind::Power;
   bool accumulate = true;      // progressive accumulation while camera and scene stay still
   bool jitter = true;          // G-buffer rays through jittered positions (false: pixel centres)
-  SampleSequence sampler = SampleSequence::Sobol;  // direct and pt: Sobol or independent numbers
+  SampleSequence sampler = SampleSequence::Sobol;  // direct and pt: Sobol, ZSobol or independent numbers
   double time_budget_ms = 0.0; // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
   DiParams di;                 // restir-di: initial candidates
   DiReuseParams di_reuse;      // restir-di: temporal and spatial reuse
@@ -99,7 +99,8 @@ class Renderer {
 
  private:
   void update_scene(float time, const CameraDesc& camera, FrameStats& stats);
-  void path_trace_pass(const SceneView& view, int frame_index, int spp, FrameStats& stats);
+  // `done`: the frame's samples per pixel before this pass.
+  void path_trace_pass(const SceneView& view, int frame_index, int done, int spp, FrameStats& stats);
   // The renderer's side of ReSTIR's pass: this and last frame's light placement and eye.
   RestirFrame restir_frame() const;
 

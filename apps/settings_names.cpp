@@ -15,7 +15,8 @@ const std::map<std::string, LightSamplerKind>& light_sampler_names() {
 }
 
 const std::map<std::string, SampleSequence>& sampler_names() {
-  static const std::map<std::string, SampleSequence> names = {{"independent", SampleSequence::Independent}, {"sobol", SampleSequence::Sobol}};
+  static const std::map<std::string, SampleSequence> names = {{"independent", SampleSequence::Independent}, {"sobol", SampleSequence::Sobol},
+                                                              {"zsobol", SampleSequence::ZSobol}};
   return names;
 }
 

@@ -26,7 +26,8 @@ struct PathTracerParams {
   uint64_t seed = 0;
   bool jitter = true;      // false: every path starts through its pixel's centre (no anti-aliasing)
   SampleSequence sequence = SampleSequence::Independent;
-  uint64_t epoch = 0;      // Sobol: the scrambles' key besides seed and pixel; one per run of first_sample
+  uint64_t epoch = 0;      // Sobol, ZSobol: the scrambles' key besides the seed (and, for Sobol, the pixel)
+  int log2_samples = 0;    // ZSobol: the frame's samples per pixel, 2^this (later ones start a new sequence)
 };
 
 // Everything a frame's estimators read about the scene, fixed for the frame.
@@ -137,7 +138,8 @@ vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams&
 // sample count to display); a non-finite sample is dropped and counted in `non_finite`. Reads the scene
 // view; traces about spp * (1 + 2 * depth) rays per pixel.
 // Randomness is keyed on (seed, pixel, frame, sample) (Sobol: (seed, pixel, epoch) and the sample as the
-// sequence index), so the result does not depend on thread count.
+// sequence index; ZSobol: (seed, epoch) and the pixel's Morton index with the sample), so the result does
+// not depend on thread count.
 template <LightSampler S>
 void path_trace(const SceneView& view, const S& sampler, const PathTracerParams& params, int frame, Image& sum,
                 RayCounter& rays, Counter& non_finite) {
@@ -156,6 +158,12 @@ void path_trace(const SceneView& view, const S& sampler, const PathTracerParams&
       const uint64_t sample = uint64_t(params.first_sample + s);
       if (params.sequence == SampleSequence::Sobol) {
         SobolStream stream = SobolStream::for_pixel(params.seed, pixel, params.epoch, uint32_t(sample));
+        one_path(stream);
+      } else if (params.sequence == SampleSequence::ZSobol) {
+        const uint32_t low = uint32_t(sample) & ((1u << params.log2_samples) - 1u);
+        const uint64_t run = sample >> params.log2_samples;
+        SobolStream stream = SobolStream::for_screen(params.seed, mix64(params.epoch) ^ run,
+                                                     zsobol_index(uint32_t(x), uint32_t(y), params.log2_samples, low));
         one_path(stream);
       } else {
         Rng stream = Rng::for_key(params.seed, pixel, sample, uint64_t(frame));

@@ -21,9 +21,10 @@
 
 namespace candela {
 
-// Where an estimator's random numbers come from: independent PCG32 streams, or Owen-scrambled Sobol
-// points, stratified within each pixel's run of samples.
-enum class SampleSequence { Independent, Sobol };
+// Where an estimator's random numbers come from: independent PCG32 streams; Owen-scrambled Sobol points,
+// stratified within each pixel's run of samples (Sobol); or one screen-wide Sobol sequence per frame
+// ordered along the Morton curve (ZSobol), which also stratifies neighbouring pixels against each other.
+enum class SampleSequence { Independent, Sobol, ZSobol };
 
 // Bits of x in reverse order.
 inline uint32_t reverse_bits(uint32_t x) {
@@ -78,6 +79,28 @@ inline uint32_t sobol_dimension1(uint32_t i) {
 // A 32-bit fixed-point fraction as a float in [0, 1) (the top 24 bits, so 1 is never reached).
 inline float fraction_to_float(uint32_t x) { return float(x >> 8) * 0x1p-24f; }
 
+// Bits of x (16 of them) spread to the even positions.
+inline uint32_t spread_bits(uint32_t x) {
+  x &= 0xffffu;
+  x = (x | (x << 8)) & 0x00ff00ffu;
+  x = (x | (x << 4)) & 0x0f0f0f0fu;
+  x = (x | (x << 2)) & 0x33333333u;
+  x = (x | (x << 1)) & 0x55555555u;
+  return x;
+}
+
+// Where sample s (of 2^log2_samples per pixel) of pixel (x, y) sits in a screen-wide sequence ordered along
+// the Morton curve, as pbrt-v4's ZSobolSampler orders it (Ahmed & Wonka 2020, "Screen-space blue-noise
+// diffusion of Monte Carlo sampling error via hierarchical ordering of pixels"): the pixels of an aligned
+// 2^j x 2^j block hold an aligned run of 4^j 2^log2_samples indices, so after the nested shuffle their
+// samples together form a net: neighbours take complementary strata, and the error is spread to high
+// frequencies, where a denoiser's spatial filter removes it. The per-dimension index shuffle of
+// SobolStream (a nested scramble, where pbrt permutes base-4 digits) keeps that block structure.
+// Indices wrap at 32 bits: images up to 2^(16 - log2_samples / 2) pixels on a side keep them distinct.
+inline uint32_t zsobol_index(uint32_t x, uint32_t y, int log2_samples, uint32_t s) {
+  return ((spread_bits(y) << 1 | spread_bits(x)) << log2_samples) | s;
+}
+
 // The sample stream of one sample of one pixel: successive calls draw successive dimensions.
 class SobolStream {
  public:
@@ -85,6 +108,10 @@ class SobolStream {
   SobolStream(uint64_t key, uint32_t index) : key_(key), index_(index) {}
   static SobolStream for_pixel(uint64_t seed, uint64_t pixel, uint64_t epoch, uint32_t index) {
     return SobolStream(mix64(seed ^ mix64(pixel + 0x9e3779b97f4a7c15ull * (epoch + 1))), index);
+  }
+  // Sample `index` of one screen-wide sequence (zsobol_index): scrambles shared by every pixel.
+  static SobolStream for_screen(uint64_t seed, uint64_t epoch, uint32_t index) {
+    return SobolStream(mix64(seed ^ mix64(0x5a50b01ull + 0x9e3779b97f4a7c15ull * (epoch + 1))), index);
   }
 
   float next_float() {

@@ -117,5 +117,33 @@ TEST(Sobol, DimensionsAndEpochsAreDecorrelated) {
   EXPECT_LT(same, 5);
 }
 
+// ZSobol: the screen-wide sequence stratifies neighbours against each other. With 2^l samples per pixel,
+// the samples of the pixels of every aligned 2^j x 2^j block (j = 0..3) together form a (0, 2j + l, 2)-net
+// in every 2D decision, and so do a pixel's own samples: at one sample per pixel, the four pixels of a
+// 2x2 block take the four quadrants.
+TEST(Sobol, ScreenSequenceStratifiesNeighbouringPixels) {
+  const int decisions = 4;
+  for (int l : {0, 2}) {
+    for (int j = 0; j <= 3; ++j)
+      for (uint32_t bx : {0u, 8u, 40u})
+        for (uint32_t by : {0u, 16u}) {
+          std::vector<std::vector<vec2>> points(decisions);
+          for (uint32_t y = by; y < by + (1u << j); ++y)
+            for (uint32_t x = bx; x < bx + (1u << j); ++x)
+              for (uint32_t s = 0; s < (1u << l); ++s) {
+                SobolStream stream = SobolStream::for_screen(5, 9, zsobol_index(x, y, l, s));
+                for (int d = 0; d < decisions; ++d) points[size_t(d)].push_back(stream.next_2d());
+              }
+          for (int d = 0; d < decisions; ++d)
+            ASSERT_TRUE(is_net(points[size_t(d)], 2 * j + l)) << "2^" << l << " spp, block " << (1 << j) << " at (" << bx
+                                                              << ", " << by << "), decision " << d;
+        }
+  }
+  // Two pixels side by side hold neighbouring indices, and distinct pixels distinct ones.
+  EXPECT_EQ(zsobol_index(1, 0, 0, 0), zsobol_index(0, 0, 0, 0) + 1);
+  EXPECT_EQ(zsobol_index(0, 1, 0, 0), 2u);
+  EXPECT_EQ(zsobol_index(3, 5, 2, 1), ((spread_bits(5) << 1 | spread_bits(3)) << 2) | 1u);
+}
+
 }  // namespace
 }  // namespace candela

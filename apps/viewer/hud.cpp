@@ -123,7 +123,8 @@ bool draw_renderer_settings(HudState& state) {
   changed |= combo<LightSamplerKind>("light sampler", s.light_sampler,
                                      {{LightSamplerKind::Uniform, "uniform"}, {LightSamplerKind::Power, "power"},
                                       {LightSamplerKind::Tree, "tree"}, {LightSamplerKind::Exhaustive, "exhaustive"}});
-  changed |= combo<SampleSequence>("sampler", s.sampler, {{SampleSequence::Independent, "independent"}, {SampleSequence::Sobol, "sobol"}});
+  changed |= combo<SampleSequence>("sampler", s.sampler, {{SampleSequence::Independent, "independent"}, {SampleSequence::Sobol, "sobol"},
+                                                                  {SampleSequence::ZSobol, "zsobol"}});
   changed |= combo<DenoiserKind>("denoiser", s.denoise.kind,
                                  {{DenoiserKind::None, "none"}, {DenoiserKind::Bilateral, "bilateral"}, {DenoiserKind::Svgf, "svgf"}});
   changed |= slider("spp", s.spp, 1, 16);
