@@ -26,7 +26,8 @@ inline FrameStats render_checked(Renderer& renderer, int frame, float time, cons
 // Per-pixel means of `spp` reference paths; fails the test if a path's radiance was not finite.
 
 template <class Sampler = PowerLightSampler>
-Image render_paths(const Scene& scene, const LightList& lights, int w, int h, int spp, int max_depth, uint64_t seed) {
+Image render_paths(const Scene& scene, const LightList& lights, int w, int h, int spp, int max_depth, uint64_t seed,
+                   SampleSequence sequence = SampleSequence::Independent) {
   Tracer tracer(scene);
   Sampler sampler(lights);
   Camera camera(scene.default_camera(), w, h);
@@ -35,6 +36,7 @@ Image render_paths(const Scene& scene, const LightList& lights, int w, int h, in
   params.spp = spp;
   params.max_depth = max_depth;
   params.seed = seed;
+  params.sequence = sequence;
   Image sum(w, h);
   RayCounter rays;
   Counter non_finite;
@@ -45,8 +47,9 @@ Image render_paths(const Scene& scene, const LightList& lights, int w, int h, in
 }
 
 template <class Sampler = PowerLightSampler>
-Image render_paths(const Scene& scene, int w, int h, int spp, int max_depth, uint64_t seed) {
-  return render_paths<Sampler>(scene, LightList(scene), w, h, spp, max_depth, seed);
+Image render_paths(const Scene& scene, int w, int h, int spp, int max_depth, uint64_t seed,
+                   SampleSequence sequence = SampleSequence::Independent) {
+  return render_paths<Sampler>(scene, LightList(scene), w, h, spp, max_depth, seed, sequence);
 }
 
 }  // namespace candela::testing

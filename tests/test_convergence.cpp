@@ -15,6 +15,7 @@
 #include "apps/scene_source.h"
 #include "apps/settings_names.h"
 #include "engine/builtin_scenes.h"
+#include "engine/check.h"
 #include "tests/test_util.h"
 
 namespace candela {
@@ -212,6 +213,50 @@ TEST(ConvergenceShared, SobolBeatsIndependentAt16Samples) {
   base.light_sampler = LightSamplerKind::Tree;
   base.seed = 3;
   expect_sobol_beats_independent(load_scene(path), base, "occluded_room");
+}
+
+// The time-to-error summary: log-log interpolation between the points around the target, the first
+// point's time when it is already below, -1 when never reached; relMSE 1 at 100 ms and 0.01 at 10,000 ms
+// lie on relMSE = 100 / t, so 0.1 is reached at 1,000 ms.
+TEST(ConvergeReport, TimeToErrorInterpolatesLogLog) {
+  auto point = [](int samples, double ms, double rel_mse) {
+    ConvergePoint p;
+    p.samples = samples;
+    p.time_ms = ms;
+    p.error.rel_mse = rel_mse;
+    return p;
+  };
+  const std::vector<ConvergePoint> points = {point(1, 100.0, 1.0), point(2, 10000.0, 0.01), point(4, 20000.0, 0.001)};
+  EXPECT_NEAR(time_to_error(points, 0.1), 1000.0, 1e-6);
+  EXPECT_NEAR(time_to_error(points, 0.01), 10000.0, 1e-6);
+  EXPECT_DOUBLE_EQ(time_to_error(points, 2.0), 100.0);
+  EXPECT_EQ(time_to_error(points, 1e-4), -1.0);
+  // An error that rises again does not matter after the first crossing.
+  const std::vector<ConvergePoint> rising = {point(1, 10.0, 0.5), point(2, 20.0, 0.05), point(4, 40.0, 0.2)};
+  EXPECT_NEAR(time_to_error(rising, 0.05), 20.0, 1e-9);
+}
+
+// "METHOD+DENOISER" is the method with that denoiser on; bad names are input errors naming the part.
+TEST(ConvergeReport, DenoisedMethodsByName) {
+  const ConvergeMethod m = converge_method_named("restir-di-pairwise+svgf");
+  EXPECT_EQ(m.name, "restir-di-pairwise+svgf");
+  EXPECT_EQ(m.transport, Transport::Direct);
+  RenderSettings s;
+  m.configure(s);
+  EXPECT_EQ(s.method, Method::RestirDi);
+  EXPECT_EQ(s.denoise.kind, DenoiserKind::Svgf);
+  RenderSettings t;
+  converge_method_named("pt-sobol+bilateral").configure(t);
+  EXPECT_EQ(t.method, Method::PathTrace);
+  EXPECT_EQ(t.sampler, SampleSequence::Sobol);
+  EXPECT_EQ(t.denoise.kind, DenoiserKind::Bilateral);
+  RenderSettings u;
+  converge_method_named("direct-tree").configure(u);
+  EXPECT_EQ(u.sampler, SampleSequence::Independent);
+  EXPECT_EQ(u.denoise.kind, DenoiserKind::None);
+  EXPECT_THROW(converge_method_named("pt+none"), InputError);
+  EXPECT_THROW(converge_method_named("pt+"), InputError);
+  EXPECT_THROW(converge_method_named("nope+svgf"), InputError);
 }
 
 }  // namespace

@@ -13,8 +13,9 @@ namespace candela {
 namespace {
 
 template <class Sampler = PowerLightSampler>
-Image render(const Scene& scene, int w, int h, int spp, int max_depth, uint64_t seed) {
-  return testing::render_paths<Sampler>(scene, w, h, spp, max_depth, seed);
+Image render(const Scene& scene, int w, int h, int spp, int max_depth, uint64_t seed,
+             SampleSequence sequence = SampleSequence::Independent) {
+  return testing::render_paths<Sampler>(scene, w, h, spp, max_depth, seed, sequence);
 }
 
 // Mean over pixels of each pixel's channel average (minus that of `minus`, if given, pixel by pixel), and
@@ -93,22 +94,25 @@ TEST(PathTracer, FurnaceDirectOnly) {
   EXPECT_NEAR(img.mean().x, 1.5, 0.015);
 }
 
-// Same seed, one thread or two: bit-identical images (randomness is keyed on pixel and sample).
+// Same seed, one thread or two: bit-identical images (randomness is keyed on pixel and sample), with
+// independent, Sobol and ZSobol numbers alike; another seed changes the image.
 TEST(PathTracer, SameImageForAnyThreadCount) {
   Scene scene = make_cornell_scene();
-  Image one, two;
-  {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    one = render(scene, 48, 32, 4, 8, 3);
+  for (SampleSequence sequence : {SampleSequence::Independent, SampleSequence::Sobol, SampleSequence::ZSobol}) {
+    Image one, two;
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+      one = render(scene, 48, 32, 4, 8, 3, sequence);
+    }
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+      two = render(scene, 48, 32, 4, 8, 3, sequence);
+    }
+    ASSERT_EQ(one.pixels.size(), two.pixels.size());
+    EXPECT_EQ(0, std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(vec3))) << int(sequence);
+    Image other_seed = render(scene, 48, 32, 4, 8, 4, sequence);
+    EXPECT_NE(0, std::memcmp(one.pixels.data(), other_seed.pixels.data(), one.pixels.size() * sizeof(vec3))) << int(sequence);
   }
-  {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-    two = render(scene, 48, 32, 4, 8, 3);
-  }
-  ASSERT_EQ(one.pixels.size(), two.pixels.size());
-  EXPECT_EQ(0, std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(vec3)));
-  Image other_seed = render(scene, 48, 32, 4, 8, 4);
-  EXPECT_NE(0, std::memcmp(one.pixels.data(), other_seed.pixels.data(), one.pixels.size() * sizeof(vec3)));
 }
 
 // The Cornell box with a second ceiling light of the same size as the first and `dim` times its radiance,
