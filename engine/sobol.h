@@ -27,7 +27,7 @@ namespace candela {
 enum class SampleSequence { Independent, Sobol, ZSobol };
 
 // Bits of x in reverse order.
-inline uint32_t reverse_bits(uint32_t x) {
+constexpr uint32_t reverse_bits(uint32_t x) {
   x = (x << 16) | (x >> 16);
   x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
   x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
@@ -36,34 +36,37 @@ inline uint32_t reverse_bits(uint32_t x) {
   return x;
 }
 
-// Nested uniform (Owen) scramble of a 32-bit fixed-point number: bit p flips by a hash of the bits above
-// it and of the seed. Laine and Karras' permutation on the reversed bits, with the constants Burley 2020
-// (section 3) found to mix best; each step changes a bit only as a function of the bits below it in the
-// reversed order, which is what makes the scramble nested.
-inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
-  x = reverse_bits(x);
+// Laine and Karras' permutation, with the constants Burley 2020 (section 3) found to mix best: each step
+// changes a bit only as a function of the bits below it (additions and products with even constants
+// carry upwards), so on bit-reversed numbers it is a nested uniform (Owen) scramble.
+inline uint32_t laine_karras(uint32_t x, uint32_t seed) {
   x += seed;
   x ^= x * 0x6c50b47cu;
   x ^= x * 0xb82f1e52u;
   x ^= x * 0xc7afe638u;
   x ^= x * 0x8d22f6e6u;
-  return reverse_bits(x);
+  return x;
 }
 
-// The first Sobol dimension (van der Corput in base 2) and the second (primitive polynomial x + 1,
-// direction numbers m_k = m_{k-1} XOR 2 m_{k-1}, m_1 = 1: Pascal's triangle modulo 2), as 32-bit
-// fixed-point fractions of index i.
+// Nested uniform (Owen) scramble of a 32-bit fixed-point number: bit p flips by a hash of the bits above
+// it and of the seed.
+inline uint32_t owen_scramble(uint32_t x, uint32_t seed) { return reverse_bits(laine_karras(reverse_bits(x), seed)); }
+
+// The first two Sobol dimensions of index i as 32-bit fixed-point fractions: the first is van der Corput
+// in base 2 (the bits of i reversed); the second has the primitive polynomial x + 1, direction numbers
+// m_k = m_{k-1} XOR 2 m_{k-1}, m_1 = 1 (Pascal's triangle modulo 2). The second is a product of its 32x32
+// generator matrix with the bits of i over GF(2), read as four byte tables (each entry the XOR of the
+// columns its byte selects): four loads instead of a loop over 32 bits with unpredictable branches.
+// `reversed` gives it bit-reversed, as the scramble wants it.
 inline uint32_t sobol_dimension0(uint32_t i) { return reverse_bits(i); }
-// The second dimension is a product of the 32x32 generator matrix with the bits of i over GF(2), read
-// as four byte tables (each entry the XOR of the columns its byte selects): four loads instead of a loop
-// over 32 bits with unpredictable branches.
+template <bool reversed = false>
 inline uint32_t sobol_dimension1(uint32_t i) {
   using Tables = std::array<std::array<uint32_t, 256>, 4>;
   static constexpr Tables tables = [] {
     std::array<uint32_t, 32> columns{};
     uint32_t m = 1;
     for (int k = 0; k < 32; ++k) {
-      columns[size_t(k)] = m << (31 - k);
+      columns[size_t(k)] = reversed ? reverse_bits(m << (31 - k)) : m << (31 - k);
       m ^= m << 1;
     }
     Tables t{};
@@ -105,7 +108,7 @@ inline uint32_t zsobol_index(uint32_t x, uint32_t y, int log2_samples, uint32_t 
 class SobolStream {
  public:
   // `key`: the pixel's scramble key (seed, pixel, epoch); `index`: the sample's number in its pixel.
-  SobolStream(uint64_t key, uint32_t index) : key_(key), index_(index) {}
+  SobolStream(uint64_t key, uint32_t index) : key_(key), reversed_index_(reverse_bits(index)) {}
   static SobolStream for_pixel(uint64_t seed, uint64_t pixel, uint64_t epoch, uint32_t index) {
     return SobolStream(mix64(seed ^ mix64(pixel + 0x9e3779b97f4a7c15ull * (epoch + 1))), index);
   }
@@ -114,25 +117,29 @@ class SobolStream {
     return SobolStream(mix64(seed ^ mix64(0x5a50b01ull + 0x9e3779b97f4a7c15ull * (epoch + 1))), index);
   }
 
+  // Each dimension's point, in the bit-reversed domain where the scrambles are Laine-Karras permutations:
+  // the shuffled index is reverse(LK(reverse(index))), its first coordinate reverse(shuffled index), whose
+  // scramble is reverse(LK(shuffled index)); the second coordinate is tabulated reversed. Three reversals
+  // per 2D point instead of seven.
   float next_float() {
     const uint64_t h = dimension_hash();
-    return fraction_to_float(owen_scramble(sobol_dimension0(shuffled(h)), uint32_t(h >> 32)));
+    return fraction_to_float(reverse_bits(laine_karras(shuffled(h), uint32_t(h >> 32))));
   }
   vec2 next_2d() {
     const uint64_t h = dimension_hash();
     const uint32_t i = shuffled(h);
     const uint32_t seed_y = uint32_t(mix64(h) >> 32);
-    return vec2(fraction_to_float(owen_scramble(sobol_dimension0(i), uint32_t(h >> 32))),
-                fraction_to_float(owen_scramble(sobol_dimension1(i), seed_y)));
+    return vec2(fraction_to_float(reverse_bits(laine_karras(i, uint32_t(h >> 32)))),
+                fraction_to_float(reverse_bits(laine_karras(sobol_dimension1<true>(i), seed_y))));
   }
 
  private:
   // 64 bits of hash per dimension: the low half shuffles the index, the high half scrambles x.
   uint64_t dimension_hash() { return mix64(key_ + 0x632be59bd9b4e019ull * uint64_t(++dimension_)); }
-  uint32_t shuffled(uint64_t h) const { return owen_scramble(index_, uint32_t(h)); }
+  uint32_t shuffled(uint64_t h) const { return reverse_bits(laine_karras(reversed_index_, uint32_t(h))); }
 
   uint64_t key_;
-  uint32_t index_;
+  uint32_t reversed_index_;
   uint32_t dimension_ = 0;
 };
 
