@@ -319,6 +319,10 @@ int main(int argc, char** argv) {
   add_frame_options(view, view_frame);
   view->add_option("--scale", viewer.scale, "Render resolution = window resolution x scale")
       ->check(CLI::Range(0.01f, 1.0f))->capture_default_str();
+  view->add_option("--target-fps", viewer.target_fps,
+                   "Dynamic resolution: adapt the render scale (up to --scale) frame by frame to hold this frame rate "
+                   "(0 = off)")
+      ->check(CLI::Range(0.0f, 1000.0f))->capture_default_str();
   view->add_flag("--headless", viewer.headless, "No window: draw frames and HUD off screen (OSMesa); needs --frames");
   view->add_option("--frames", viewer.frames, "Stop after this many frames (0 = when the window is closed)")
       ->check(CLI::Range(0, 1 << 24))->capture_default_str();
@@ -345,7 +349,8 @@ int main(int argc, char** argv) {
   c.base.height = 90;
   c.base.light_sampler = LightSamplerKind::Tree;
   c.base.jitter = false;
-  c.methods = {"direct-uniform", "direct-power", "direct-tree", "restir-di-none", "restir-di-basic", "restir-di-pairwise", "pt", "restir"};
+  c.methods = {"direct-uniform", "direct-power", "direct-tree", "direct-tree-sobol", "restir-di-none", "restir-di-basic",
+               "restir-di-pairwise", "restir-di-pairwise+svgf", "pt", "pt-sobol", "restir"};
   std::string converge_light_sampler = "tree";
   CLI::App* converge = app.add_subcommand("converge", "Error against samples and time of each method: CSV and a log-log plot");
   converge->add_option("scene", c.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();

@@ -171,6 +171,19 @@ void Renderer::reset_history() {
   denoiser_.reset();
 }
 
+void Renderer::apply_settings(const RenderSettings& settings) {
+  CHECK(settings.width > 0 && settings.height > 0 && settings.spp > 0);
+  if (settings.light_sampler != settings_.light_sampler) sampler_ = make_light_sampler(settings.light_sampler, lights_);
+  settings_ = settings;
+  restir_ = Restir(restir_settings(settings));
+  denoiser_ = Denoiser(settings.denoise);
+  sum_ = Image(settings.width, settings.height);
+  gbuffer_ = GBuffer();
+  prev_gbuffer_ = GBuffer();
+  denoised_ = Image();
+  reset_history();
+}
+
 Image Renderer::image() const {
   return settings_.denoise.kind != DenoiserKind::None && denoised_.width == sum_.width ? denoised_ : noisy_image();
 }

@@ -78,6 +78,11 @@ class Renderer {
   // Forgets every frame before the next one, as if the renderer were new: no temporal reuse, no
   // denoiser history, no accumulation, zero motion on the next frame's camera.
   void reset_history();
+  // Takes new settings (any of them, the size included) without rebuilding what depends on the scene
+  // alone: the BVHs and the light list stay, the light sampler is rebuilt only when its kind changes, and
+  // ReSTIR, the denoiser and the accumulation start over as after reset_history. On a still scene the
+  // next frames equal a new Renderer's with these settings. Cost: a light sampler build at most.
+  void apply_settings(const RenderSettings& settings);
   // The displayed image: accumulated radiance divided by the samples accumulated so far, denoised when
   // a denoiser is set.
   Image image() const;

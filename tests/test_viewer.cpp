@@ -196,5 +196,32 @@ TEST(ViewerHeadless, ResidentMemoryStableOver1000Frames) {
   EXPECT_LE(at_1000 - at_100, 2048);
 }
 
+// Dynamic resolution (--target-fps): with a target no frame can meet (10,000 FPS) the render scale falls
+// to its floor within 60 headless frames (320x180 window: at most 0.1 x 320 = 32 pixels wide, measured
+// 32); with a target every frame meets (1 FPS) it stays at the full size; without a target it is
+// untouched. Each step reconfigures the same Renderer (no new BVHs), so the run also exercises
+// Renderer::apply_settings at changing sizes.
+TEST(ViewerHeadless, DynamicResolutionFollowsTheTarget) {
+  RenderSettings settings;
+  settings.method = Method::Direct;
+  for (float target : {10000.0f, 1.0f, 0.0f}) {
+    ViewerOptions options;
+    options.headless = true;
+    options.width = 320;
+    options.height = 180;
+    options.frames = 60;
+    options.target_fps = target;
+    options.orbit_degrees_per_frame = 1.0f;
+    Viewer viewer(make_builtin_scene("cornell"), settings, options);
+    while (viewer.step()) {
+    }
+    const int width = viewer.renderer().settings().width;
+    std::printf("target %.0f FPS: render width after 60 frames %d\n", target, width);
+    if (target > 1000.0f) EXPECT_LE(width, 32);
+    else EXPECT_EQ(width, 320);
+    EXPECT_EQ(viewer.frame_times().size(), 59u);
+  }
+}
+
 }  // namespace
 }  // namespace candela

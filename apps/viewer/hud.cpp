@@ -104,7 +104,7 @@ bool combo(const char* label, T& value, const std::vector<std::pair<T, const cha
   return changed;
 }
 
-// Sliders report a change when released, so dragging one rebuilds the Renderer once, not every frame.
+// Sliders report a change when released, so dragging one reconfigures the Renderer once, not every frame.
 bool slider(const char* label, int& value, int min, int max) {
   ImGui::SliderInt(label, &value, min, max);
   return ImGui::IsItemDeactivatedAfterEdit();
@@ -132,6 +132,8 @@ bool draw_renderer_settings(HudState& state) {
   changed |= slider("max depth", s.max_depth, 1, 16);
   ImGui::EndDisabled();
   changed |= slider("resolution scale", state.scale, 0.125f, 1.0f, "%.3f");
+  ImGui::SliderFloat("target FPS", &state.target_fps, 0.0f, 120.0f, state.target_fps > 0.0f ? "%.0f" : "off");
+  if (state.target_fps > 0.0f) ImGui::Text("dynamic resolution: x%.2f of the scale", state.dynamic_scale);
   changed |= ImGui::Checkbox("accumulate", &s.accumulate);
   ImGui::SameLine();
   changed |= ImGui::Checkbox("jitter", &s.jitter);

@@ -31,7 +31,9 @@ class FrameHistory {
 // What the HUD edits.
 struct HudState {
   RenderSettings settings;     // the settings the next frame should use
-  float scale = 1.0f;          // render resolution / window resolution
+  float scale = 1.0f;          // render resolution / window resolution (with a target FPS: at most)
+  float target_fps = 0.0f;     // dynamic resolution's target (0: off)
+  float dynamic_scale = 1.0f;  // shown: dynamic resolution's factor on `scale`
   DisplayView view = DisplayView::Radiance;
   float exposure = 1.0f;
   bool pause_time = false;     // freeze scene time (animated scenes then accumulate too)
@@ -40,7 +42,7 @@ struct HudState {
 };
 
 struct HudActions {
-  bool settings_changed = false;  // settings or scale: the viewer rebuilds the Renderer
+  bool settings_changed = false;  // settings or scale: the viewer reconfigures the Renderer
   bool reset = false;             // drop accumulation and history
   bool save_png = false, save_exr = false;
 };

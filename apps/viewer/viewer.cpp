@@ -2,6 +2,7 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <thread>
@@ -30,27 +31,51 @@ Viewer::Viewer(const Scene& scene, const RenderSettings& settings, const ViewerO
   imgui_ = std::make_unique<ImGuiBackend>(*gl_);
   hud_.settings = settings;
   hud_.scale = options.scale;
+  hud_.target_fps = options.target_fps;
   hud_.exposure = options.exposure;
   hud_.view = options.view;
   WindowInput input = context_->poll();
   last_mouse_x_ = input.mouse_x;
   last_mouse_y_ = input.mouse_y;
-  rebuild_renderer(scaled(std::max(input.framebuffer_width, 1), options.scale),
-                   scaled(std::max(input.framebuffer_height, 1), options.scale));
+  configure_renderer(scaled(std::max(input.framebuffer_width, 1), options.scale),
+                     scaled(std::max(input.framebuffer_height, 1), options.scale));
   last_step_ = std::chrono::steady_clock::now();
 }
 
 Viewer::~Viewer() = default;
 
-// Replaces the Renderer by a new one of the given size with the HUD's settings (the old one is freed
-// first, so two never coexist). Cost: the tracer's BVH build and the light sampler's construction.
-void Viewer::rebuild_renderer(int width, int height) {
+// Gives the Renderer the HUD's settings at this size: the first time by building it (the tracer's BVHs,
+// the light list and sampler), afterwards in place (Renderer::apply_settings: history starts over, the
+// BVHs and light list stay; a light sampler build at most).
+void Viewer::configure_renderer(int width, int height) {
   RenderSettings settings = hud_.settings;
   settings.width = width;
   settings.height = height;
-  renderer_.reset();
-  renderer_ = std::make_unique<Renderer>(Scene(scene_), settings);
-  rebuild_ = false;
+  if (renderer_) renderer_->apply_settings(settings);
+  else renderer_ = std::make_unique<Renderer>(Scene(scene_), settings);
+  reconfigure_ = false;
+}
+
+// Dynamic resolution: the render scale follows the target frame rate. Frame time grows with the pixel
+// count, so the scale that meets the target is scale * sqrt(target ms / measured ms); the measured time
+// is a running average (weight 1/4 on the newest frame), and the scale moves only when it is off by more
+// than 10% and 8 frames have passed since it last moved (each move restarts the Renderer's history).
+void Viewer::adapt_scale(double frame_ms) {
+  constexpr float kMinScale = 0.1f;
+  constexpr int kSettleFrames = 8;
+  if (hud_.target_fps <= 0.0f) {
+    dynamic_scale_ = 1.0f;
+    return;
+  }
+  average_frame_ms_ = frames_at_scale_ == 0 ? frame_ms : 0.75 * average_frame_ms_ + 0.25 * frame_ms;
+  if (++frames_at_scale_ < kSettleFrames) return;
+  const double target_ms = 1000.0 / hud_.target_fps;
+  const float wanted = std::clamp(float(dynamic_scale_ * std::sqrt(target_ms / std::max(average_frame_ms_, 1e-3))),
+                                  kMinScale / std::max(hud_.scale, kMinScale), 1.0f);
+  if (std::abs(wanted / dynamic_scale_ - 1.0f) <= 0.1f) return;
+  dynamic_scale_ = wanted;
+  frames_at_scale_ = 0;
+  dynamic_resize_ = true;
 }
 
 // Mouse and keys move the camera unless ImGui uses them: left drag orbits, the wheel zooms, right drag
@@ -89,25 +114,34 @@ bool Viewer::step() {
     imgui_->new_frame(in, dt);
     apply_camera_input(in, dt);
     // A new render size (window resized, scale dragged) waits until it has held for kResizeSettle, so a
-    // drag rebuilds the Renderer once; meanwhile the last size is shown stretched.
-    int width = scaled(in.framebuffer_width, hud_.scale), height = scaled(in.framebuffer_height, hud_.scale);
+    // drag reconfigures the Renderer once; meanwhile the last size is shown stretched. Dynamic resolution's
+    // sizes apply at once (adapt_scale already waits between them).
+    const float scale = hud_.scale * dynamic_scale_;
+    int width = scaled(in.framebuffer_width, scale), height = scaled(in.framebuffer_height, scale);
     if (width != pending_width_ || height != pending_height_) {
       pending_width_ = width;
       pending_height_ = height;
       pending_since_ = now;
     }
     bool resized = width != renderer_->settings().width || height != renderer_->settings().height;
-    if (rebuild_ || (resized && now - pending_since_ >= kResizeSettle)) rebuild_renderer(width, height);
+    const bool settled = now - pending_since_ >= kResizeSettle || dynamic_resize_;
+    if (reconfigure_ || (resized && settled)) configure_renderer(width, height);
+    dynamic_resize_ = false;
     FrameStats stats = renderer_->render_frame(frame_index_, scene_time_, camera_.desc());
     display_->upload(to_display_pixels(display_view_image(*renderer_, hud_.view), display_view_tonemapped(hud_.view), hud_.exposure));
     display_->draw(in.framebuffer_width, in.framebuffer_height);
+    if (frames_done_ > 1) {  // the first step's time is the setup's
+      frame_times_.push_back(frame_ms);
+      adapt_scale(frame_ms);
+    }
+    hud_.dynamic_scale = dynamic_scale_;
     history_.push(frame_ms, std::move(stats));
     HudActions actions;  // without the HUD (--no-hud), ImGui draws nothing and nothing is clicked
     if (options_.hud) actions = draw_hud(hud_, history_, *renderer_, camera_.desc(), hud_rect_);
     imgui_->render(in.framebuffer_width, in.framebuffer_height);
     framebuffer_width_ = in.framebuffer_width;
     framebuffer_height_ = in.framebuffer_height;
-    rebuild_ = actions.settings_changed || actions.reset;
+    reconfigure_ = actions.settings_changed || actions.reset;
     if (actions.save_png) save_view(".png");
     if (actions.save_exr) save_view(".exr");
     if (options_.frames == 0 || frames_done_ < options_.frames) context_->present();  // the last frame stays readable
@@ -148,6 +182,13 @@ int run_viewer(const Scene& scene, const RenderSettings& settings, const ViewerO
     const HudRect& hud = viewer.hud_rect();
     std::fprintf(stderr, "view: %d frames in %.2f s (%.1f fps), ", viewer.frames_done(), seconds,
                  viewer.frames_done() / std::max(seconds, 1e-9));
+    std::vector<double> t = viewer.frame_times();
+    if (!t.empty()) {
+      std::sort(t.begin(), t.end());
+      auto at = [&](double q) { return t[std::min(t.size() - 1, size_t(q * double(t.size())))]; };
+      std::fprintf(stderr, "frame ms median %.1f, p90 %.1f, p99 %.1f, max %.1f; last render size %dx%d, ", at(0.5), at(0.9),
+                   at(0.99), t.back(), viewer.renderer().settings().width, viewer.renderer().settings().height);
+    }
     if (options.hud) std::fprintf(stderr, "HUD at %.0f %.0f size %.0f x %.0f\n", hud.x, hud.y, hud.width, hud.height);
     else std::fprintf(stderr, "HUD off\n");
     if (!options.screenshot.empty()) std::fprintf(stderr, "wrote %s\n", options.screenshot.c_str());

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "apps/renderer.h"
 #include "apps/viewer/camera_controller.h"
@@ -17,7 +18,8 @@ namespace candela {
 
 struct ViewerOptions {
   int width = 640, height = 360;  // window (headless: framebuffer) size in pixels
-  float scale = 1.0f;             // render resolution = window resolution x scale
+  float scale = 1.0f;             // render resolution = window resolution x scale (with a target: at most)
+  float target_fps = 0.0f;        // > 0: dynamic resolution, the render scale adapts to hold this frame rate
   bool headless = false;          // OSMesa off screen instead of a window
   int frames = 0;                 // stop after this many frames; 0 = until the window is closed
   std::string screenshot;         // after the last frame, the framebuffer (frame + HUD) as PNG
@@ -43,10 +45,13 @@ class Viewer {
   void write_framebuffer(const std::string& path) const;
   const HudRect& hud_rect() const { return hud_rect_; }
   int frames_done() const { return frames_done_; }
+  const std::vector<double>& frame_times() const { return frame_times_; }
+  const Renderer& renderer() const { return *renderer_; }
 
  private:
   void apply_camera_input(const WindowInput& input, float dt);
-  void rebuild_renderer(int width, int height);
+  void configure_renderer(int width, int height);
+  void adapt_scale(double frame_ms);
   void save_view(const std::string& extension);
 
   Scene scene_;  // loaded once; each Renderer gets a copy
@@ -63,7 +68,12 @@ class Viewer {
   int frames_done_ = 0;       // loop iterations, drawn or minimised
   int frame_index_ = 0;       // the Renderer's frame number (random streams)
   float scene_time_ = 0.0f;
-  bool rebuild_ = false;
+  bool reconfigure_ = false;  // the HUD changed a setting: the Renderer takes the HUD's settings
+  float dynamic_scale_ = 1.0f;   // dynamic resolution's factor on the HUD's scale (1 without a target)
+  double average_frame_ms_ = 0.0;
+  int frames_at_scale_ = 0;      // frames since the dynamic scale last changed
+  bool dynamic_resize_ = false;  // it changed: the next frame takes the new size without waiting
+  std::vector<double> frame_times_;  // every drawn frame's loop time (ms), for the exit summary
   int framebuffer_width_ = 0, framebuffer_height_ = 0;  // of the last frame drawn
   int pending_width_ = 0, pending_height_ = 0;          // the latest render size asked for, and since when
   std::chrono::steady_clock::time_point pending_since_;
