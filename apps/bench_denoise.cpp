@@ -1,5 +1,6 @@
 // `candela bench --suite denoise`: wall time of the cross-bilateral filter and of SVGF (steady state: a
-// still camera, the history full) on a rendered builtin:cornell frame at 640x360 and 1280x720.
+// still camera, the history full; with the 3x3 a-trous kernel, the default, and with the paper's 5x5) on a
+// rendered builtin:cornell frame at 640x360 and 1280x720.
 #include <benchmark/benchmark.h>
 
 #include <memory>
@@ -34,8 +35,9 @@ struct DenoiseFrame {
 
 // Registers `kind` on `frame`; the denoiser lives as long as the benchmark (SVGF keeps its history
 // between iterations, so after the first iteration it runs in steady state).
-void register_denoiser(const std::string& name, DenoiserKind kind, const DenoiseFrame& frame, const BenchOptions& o) {
-  auto denoiser = std::make_shared<Denoiser>(DenoiserParams{kind});
+void register_denoiser(const std::string& name, const DenoiserParams& params, const DenoiseFrame& frame,
+                       const BenchOptions& o) {
+  auto denoiser = std::make_shared<Denoiser>(params);
   benchmark::RegisterBenchmark((name + "/" + frame.size).c_str(), [denoiser, &frame](benchmark::State& state) {
     FrameStats stats;
     for (auto _ : state) benchmark::DoNotOptimize(denoiser->denoise(frame.gbuffer, frame.gbuffer, frame.noisy, stats));
@@ -62,14 +64,20 @@ int run_denoise_bench(const BenchOptions& o) {
   frames.push_back(std::make_unique<DenoiseFrame>(640, 360));
   frames.push_back(std::make_unique<DenoiseFrame>(1280, 720));
   for (const auto& f : frames) {
-    register_denoiser("bilateral", DenoiserKind::Bilateral, *f, o);
-    register_denoiser("svgf", DenoiserKind::Svgf, *f, o);
+    register_denoiser("bilateral", DenoiserParams{DenoiserKind::Bilateral}, *f, o);
+    register_denoiser("svgf", DenoiserParams{DenoiserKind::Svgf}, *f, o);
+    DenoiserParams svgf5{DenoiserKind::Svgf};
+    svgf5.svgf.atrous_radius = 2;
+    register_denoiser("svgf5x5", svgf5, *f, o);
   }
   BenchResults r = run_registered_benchmarks(o);
-  std::printf("\nSummary (medians of %d repetitions, ms per frame):\n%-12s %12s %12s\n", o.repetitions, "size", "bilateral", "svgf");
+  std::printf("\nSummary (medians of %d repetitions, ms per frame):\n%-12s %12s %12s %12s\n", o.repetitions, "size",
+              "bilateral", "svgf", "svgf 5x5");
   for (const auto& f : frames)
-    std::printf("%-12s %12.2f %12.2f\n", f->size.c_str(), BenchResults::median(r.ns_per_iteration, "bilateral/" + f->size) * 1e-6,
-                BenchResults::median(r.ns_per_iteration, "svgf/" + f->size) * 1e-6);
+    std::printf("%-12s %12.2f %12.2f %12.2f\n", f->size.c_str(),
+                BenchResults::median(r.ns_per_iteration, "bilateral/" + f->size) * 1e-6,
+                BenchResults::median(r.ns_per_iteration, "svgf/" + f->size) * 1e-6,
+                BenchResults::median(r.ns_per_iteration, "svgf5x5/" + f->size) * 1e-6);
   for (const auto& f : frames)
     for (DenoiserKind kind : {DenoiserKind::Bilateral, DenoiserKind::Svgf}) {
       std::printf("stages of %s at %s (medians over 21 frames):\n", kind == DenoiserKind::Svgf ? "svgf" : "bilateral", f->size.c_str());

@@ -48,6 +48,7 @@ struct RenderOptions {
   std::string gi_bias = "pairwise";
   std::string aov = "none";
   std::string denoise = "none";
+  int svgf_kernel = 3;
   RenderSettings settings;
 };
 
@@ -111,6 +112,7 @@ void resolve_settings(RenderOptions& o) {
   o.settings.light_sampler = light_sampler_names().at(o.light_sampler);
   o.settings.sampler = sampler_names().at(o.sampler);
   o.settings.denoise.kind = denoiser_names().at(o.denoise);
+  o.settings.denoise.svgf.atrous_radius = o.svgf_kernel / 2;
   set_reuse(o.di_reuse, o.di_bias, o.settings.di_reuse);
   set_reuse(o.gi_reuse, o.gi_bias, o.settings.gi_reuse);
   o.settings.method = method_names().at(o.method);
@@ -245,6 +247,9 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
                      "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
                      "(spatiotemporal variance-guided filtering); both demodulate by albedo")
       ->check(CLI::IsMember(keys_of(denoiser_names())))->capture_default_str();
+  cmd->add_option("--svgf-kernel", r.svgf_kernel,
+                  "svgf: the a-trous kernel, 3 (3x3 binomial) or 5 (the paper's 5x5 B3 spline, wider and slower)")
+      ->check(CLI::IsMember({3, 5}))->capture_default_str();
   cmd->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
       ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();
   cmd->add_option("--sampler", r.sampler,

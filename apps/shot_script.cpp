@@ -203,6 +203,9 @@ void read_render_settings(ObjectReader& r, ShotScript& s) {
   st.light_sampler = r.named("light_sampler", light_sampler_names(), st.light_sampler);
   st.sampler = r.named("sampler", sampler_names(), st.sampler);
   st.denoise.kind = r.named("denoise", denoiser_names(), st.denoise.kind);
+  const int kernel = r.integer("svgf_kernel", 3, 5, 2 * st.denoise.svgf.atrous_radius + 1);
+  if (kernel == 4) r.fail("svgf_kernel", "must be 3 or 5, not 4");
+  st.denoise.svgf.atrous_radius = kernel / 2;
   st.jitter = r.flag("jitter", st.jitter);
   st.accumulate = false;
   st.di.light_candidates = r.integer("di_candidates", 0, 1024, st.di.light_candidates);

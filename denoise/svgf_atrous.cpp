@@ -6,8 +6,10 @@ namespace candela {
 
 namespace {
 
-// B3-spline weights (1, 4, 6, 4, 1) / 16 (Schied et al. 2017, sec. 4.3).
+// B3-spline weights (1, 4, 6, 4, 1) / 16 (Schied et al. 2017, sec. 4.3), and the 3x3 alternative's
+// binomial (1, 2, 1) / 4.
 constexpr float kB3[5] = {1.0f / 16.0f, 1.0f / 4.0f, 3.0f / 8.0f, 1.0f / 4.0f, 1.0f / 16.0f};
+constexpr float kBinomial3[3] = {1.0f / 4.0f, 1.0f / 2.0f, 1.0f / 4.0f};
 
 // scale = 1 / (sigma_l sqrt(g3x3(Var)) + eps) at hit pixels: the variance prefiltered with the 3x3
 // Gaussian (1, 2, 1)^2 / 16 (sec. 4.3, "we prefilter the variance with a 3x3 Gaussian"), borders clamped.
@@ -95,7 +97,10 @@ void svgf_atrous_iteration(const Guides& guides, const SvgfParams& params, int s
   if (out.color.width != guides.width || out.color.height != guides.height) out.resize(guides.width, guides.height);
   scale.resize(guides.size());
   luminance_scale(guides, params, in.variance, scale);
-  Stencil stencil(2, 2, step, [](int tx, int ty) { return kB3[tx + 2] * kB3[ty + 2]; });
+  CHECK(params.atrous_radius == 1 || params.atrous_radius == 2);
+  const int r = params.atrous_radius;
+  const float* h = r == 2 ? kB3 : kBinomial3;
+  Stencil stencil(r, r, step, [h, r](int tx, int ty) { return h[tx + r] * h[ty + r]; });
   AtrousKernel kernel(guides, in, scale, out);
   filter_image(guides, params.edges, stencil, kernel);
 }

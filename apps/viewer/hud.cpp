@@ -127,6 +127,9 @@ bool draw_renderer_settings(HudState& state) {
                                                                   {SampleSequence::ZSobol, "zsobol"}});
   changed |= combo<DenoiserKind>("denoiser", s.denoise.kind,
                                  {{DenoiserKind::None, "none"}, {DenoiserKind::Bilateral, "bilateral"}, {DenoiserKind::Svgf, "svgf"}});
+  ImGui::BeginDisabled(s.denoise.kind != DenoiserKind::Svgf);
+  changed |= combo<int>("svgf kernel", s.denoise.svgf.atrous_radius, {{1, "3x3"}, {2, "5x5"}});
+  ImGui::EndDisabled();
   changed |= slider("spp", s.spp, 1, 16);
   ImGui::BeginDisabled(s.method != Method::PathTrace && s.method != Method::Restir);
   changed |= slider("max depth", s.max_depth, 1, 16);
