@@ -165,7 +165,7 @@ Image reference_for(const ConvergeOptions& o, const Scene& scene, Transport tran
   return image;
 }
 
-// Each method's time to the target relMSE (time_to_error), in the order the methods ran.
+// Each method's time to the target relMSE (time_to_error), by method name.
 std::map<std::string, double> times_to_target(const std::vector<ConvergePoint>& points, double target) {
   std::map<std::string, std::vector<ConvergePoint>> by_method;
   for (const ConvergePoint& p : points) by_method[p.method].push_back(p);

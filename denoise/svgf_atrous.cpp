@@ -11,23 +11,24 @@ namespace {
 constexpr float kB3[5] = {1.0f / 16.0f, 1.0f / 4.0f, 3.0f / 8.0f, 1.0f / 4.0f, 1.0f / 16.0f};
 constexpr float kBinomial3[3] = {1.0f / 4.0f, 1.0f / 2.0f, 1.0f / 4.0f};
 
-// scale = 1 / (sigma_l sqrt(g3x3(Var)) + eps) at hit pixels: the variance prefiltered with the 3x3
-// Gaussian (1, 2, 1)^2 / 16 (sec. 4.3, "we prefilter the variance with a 3x3 Gaussian"), borders clamped.
+// scale = 1 / (sigma_l sqrt(g3x3(Var)) + eps): the variance prefiltered with the 3x3 Gaussian
+// (1, 2, 1)^2 / 16 (sec. 4.3, "we prefilter the variance with a 3x3 Gaussian"), borders clamped; read at
+// filtered pixels only, written everywhere so that the row's inner loop has no branch and vectorises (it
+// was a scalar loop with clamped taps, 10% of SVGF's time). Cost: 9 loads and a square root per pixel.
 void luminance_scale(const Guides& guides, const SvgfParams& params, const std::vector<float>& variance,
                      std::vector<float>& scale) {
   const int w = guides.width, h = guides.height;
+  const float sigma = params.sigma_luminance * 0.25f, eps = params.luminance_epsilon;  // sqrt(sum / 16) = sqrt(sum) / 4
   for_each_row(h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      size_t i = size_t(y) * w + x;
-      if (!guides.filtered[i]) continue;
-      float sum = 0.0f;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          int qx = std::clamp(x + dx, 0, w - 1), qy = std::clamp(y + dy, 0, h - 1);
-          sum += float((2 - std::abs(dx)) * (2 - std::abs(dy))) * variance[size_t(qy) * w + qx];
-        }
-      scale[i] = 1.0f / (params.sigma_luminance * std::sqrt(sum * (1.0f / 16.0f)) + params.luminance_epsilon);
-    }
+    const float* up = variance.data() + size_t(std::max(y - 1, 0)) * w;
+    const float* mid = variance.data() + size_t(y) * w;
+    const float* down = variance.data() + size_t(std::min(y + 1, h - 1)) * w;
+    float* out = scale.data() + size_t(y) * w;
+    auto column = [&](int x) { return up[x] + 2.0f * mid[x] + down[x]; };
+    auto at = [&](float sum) { return 1.0f / (sigma * std::sqrt(sum) + eps); };
+    for (int x = 1; x + 1 < w; ++x) out[x] = at(column(x - 1) + 2.0f * column(x) + column(x + 1));
+    out[0] = at(3.0f * column(0) + column(std::min(1, w - 1)));
+    if (w > 1) out[w - 1] = at(column(w - 2) + 3.0f * column(w - 1));
   });
 }
 

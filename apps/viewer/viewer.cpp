@@ -23,7 +23,7 @@ int scaled(int framebuffer_size, float scale) { return std::max(1, int(std::lrou
 }  // namespace
 
 Viewer::Viewer(const Scene& scene, const RenderSettings& settings, const ViewerOptions& options)
-    : scene_(scene), options_(options), camera_(scene.default_camera()) {
+    : options_(options), camera_(scene.default_camera()) {
   context_ = options.headless ? make_headless_context(options.width, options.height)
                               : make_window_context(options.width, options.height, "candela view");
   gl_ = std::make_unique<GlFunctions>(context_->proc_address());
@@ -37,22 +37,22 @@ Viewer::Viewer(const Scene& scene, const RenderSettings& settings, const ViewerO
   WindowInput input = context_->poll();
   last_mouse_x_ = input.mouse_x;
   last_mouse_y_ = input.mouse_y;
-  configure_renderer(scaled(std::max(input.framebuffer_width, 1), options.scale),
-                     scaled(std::max(input.framebuffer_height, 1), options.scale));
+  RenderSettings first = settings;
+  first.width = scaled(std::max(input.framebuffer_width, 1), options.scale);
+  first.height = scaled(std::max(input.framebuffer_height, 1), options.scale);
+  renderer_ = std::make_unique<Renderer>(Scene(scene), first);
   last_step_ = std::chrono::steady_clock::now();
 }
 
 Viewer::~Viewer() = default;
 
-// Gives the Renderer the HUD's settings at this size: the first time by building it (the tracer's BVHs,
-// the light list and sampler), afterwards in place (Renderer::apply_settings: history starts over, the
-// BVHs and light list stay; a light sampler build at most).
+// Gives the Renderer the HUD's settings at this size, in place (Renderer::apply_settings: history starts
+// over, the BVHs and light list stay; a light sampler build at most).
 void Viewer::configure_renderer(int width, int height) {
   RenderSettings settings = hud_.settings;
   settings.width = width;
   settings.height = height;
-  if (renderer_) renderer_->apply_settings(settings);
-  else renderer_ = std::make_unique<Renderer>(Scene(scene_), settings);
+  renderer_->apply_settings(settings);
   reconfigure_ = false;
 }
 

@@ -34,7 +34,8 @@ struct ViewerOptions {
 
 class Viewer {
  public:
-  // Opens the window or headless context and builds the first Renderer from a copy of `scene`.
+  // Opens the window or headless context and builds the Renderer from a copy of `scene` (the one
+  // Renderer of the viewer's life: settings and sizes change in place).
   // Throws std::runtime_error when no GL context can be had.
   Viewer(const Scene& scene, const RenderSettings& settings, const ViewerOptions& options);
   ~Viewer();
@@ -54,7 +55,6 @@ class Viewer {
   void adapt_scale(double frame_ms);
   void save_view(const std::string& extension);
 
-  Scene scene_;  // loaded once; each Renderer gets a copy
   ViewerOptions options_;
   std::unique_ptr<GlContext> context_;  // declared before everything that holds GL objects
   std::unique_ptr<GlFunctions> gl_;
