@@ -16,6 +16,7 @@
 #include "apps/sequence.h"
 #include "apps/shot_script.h"
 #include "apps/settings_names.h"
+#include "apps/settings_options.h"
 #include "apps/stats_json.h"
 #include "apps/viewer/viewer.h"
 #include "engine/check.h"
@@ -39,16 +40,7 @@ struct RenderOptions {
   int lights = 1024;
   float environment = -1.0f;  // < 0: the default rule (apply_default_environment)
   bool quiet = false;
-  std::string method = "pt";
-  std::string light_sampler = "power";
-  std::string sampler = "sobol";
-  std::string di_reuse = "both";
-  std::string di_bias = "pairwise";
-  std::string gi_reuse = "both";
-  std::string gi_bias = "pairwise";
   std::string aov = "none";
-  std::string denoise = "none";
-  int svgf_kernel = 3;
   RenderSettings settings;
 };
 
@@ -67,55 +59,10 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
     throw InputError(std::string(option) + " " + path + ": directory " + dir.string() + " does not exist");
 }
 
-// The reuse options ReSTIR DI and GI share, as --PREFIX-NAME ("di" or "gi"), documented for `method`.
-void add_reuse_options(CLI::App& render, const std::string& prefix, const std::string& method, DiReuseParams& p,
-                       std::string& reuse, std::string& bias) {
-  auto name = [&](const char* option) { return "--" + prefix + "-" + option; };
-  auto doc = [&](const std::string& text) { return method + ": " + text; };
-  render.add_option(name("reuse"), reuse, doc("reuse stages"))
-      ->check(CLI::IsMember(di_reuse_names()))->capture_default_str();
-  render.add_option(name("bias"), bias,
-                    doc("bias correction of reuse: none (1/M), basic (generalized balance heuristic, k^2 target "
-                        "evaluations) or pairwise (pairwise MIS, k evaluations)"))
-      ->check(CLI::IsMember(keys_of(di_bias_names())))->capture_default_str();
-  render.add_option(name("neighbours"), p.spatial_neighbours, doc("spatial neighbours per pass"))
-      ->check(CLI::Range(0, 31))->capture_default_str();
-  render.add_option(name("radius"), p.spatial_radius, doc("spatial reuse radius in pixels"))
-      ->check(CLI::Range(1.0f, 1000.0f))->capture_default_str();
-  render.add_option(name("spatial-passes"), p.spatial_passes, doc("spatial reuse passes"))->check(CLI::Range(1, 8))->capture_default_str();
-  render.add_option(name("disocclusion-neighbours"), p.disocclusion_neighbours,
-                    doc("spatial neighbours (first pass) for pixels whose temporal history was lost"))
-      ->check(CLI::Range(0, 31))->capture_default_str();
-  render.add_option(name("boiling-filter"), p.boiling_threshold,
-                    doc("drop reservoirs whose estimated contribution exceeds this many times their 16x16 block's "
-                        "mean, after temporal reuse (0 = off; biased: removes energy)"))
-      ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
-  render.add_option(name("visibility-reuse"), p.visibility_reuse_frames,
-                    doc("reuse last frame's final shadow-ray verdict where a pixel keeps its temporal history's "
-                        "sample, for at most this many frames in a row (0 = off; biased where occluders move)"))
-      ->check(CLI::Range(0, 255))->capture_default_str();
-  render.add_flag(name("drop-occluded") + ",!" + name("keep-occluded"), p.drop_occluded,
-                  doc("a reservoir whose sample the shading found occluded drops it before it becomes history "
-                      "(--" + prefix + "-keep-occluded: keep it; default: " + (p.drop_occluded ? "drop" : "keep") +
-                      "; dropping is biased at shadow edges and where occluders move)"));
-  render.add_flag(name("permutation"), p.permutation_sampling,
-                  doc("permutation sampling of the previous frame (decorrelates frames for a denoiser)"));
-  render.add_option(name("history-cap"), p.history_cap,
-                    doc("the previous frame's reservoir counts at most this many times the current M"))
-      ->check(CLI::Range(0.0f, 1000.0f))->capture_default_str();
-}
-
-// Checks the image size and turns the option strings into RenderSettings.
-void resolve_settings(RenderOptions& o) {
+// Checks what one option alone cannot: the image size.
+void check_settings(const RenderOptions& o) {
   if (int64_t(o.settings.width) * o.settings.height > (int64_t(1) << 26))
     throw InputError("--width x --height: at most 67108864 pixels (8192 x 8192)");
-  o.settings.light_sampler = light_sampler_names().at(o.light_sampler);
-  o.settings.sampler = sampler_names().at(o.sampler);
-  o.settings.denoise.kind = denoiser_names().at(o.denoise);
-  o.settings.denoise.svgf.atrous_radius = o.svgf_kernel / 2;
-  set_reuse(o.di_reuse, o.di_bias, o.settings.di_reuse);
-  set_reuse(o.gi_reuse, o.gi_bias, o.settings.gi_reuse);
-  o.settings.method = method_names().at(o.method);
 }
 
 // Loads the scene argument with the options that shape it (light count, environment).
@@ -139,9 +86,10 @@ int run_render(RenderOptions& o) {
     throw InputError("--frames " + o.frames + ": expected a positive number of frames (FIRST:LAST needs --script)");
   }
   check_output_path(o.out, {".exr", ".png"}, "--out");
-  if (o.aov != "none" && o.method.rfind("restir", 0) != 0) throw InputError("--aov " + o.aov + ": needs --method restir-di or restir");
+  const bool restir = o.settings.method == Method::RestirDi || o.settings.method == Method::Restir;
+  if (o.aov != "none" && !restir) throw InputError("--aov " + o.aov + ": needs --method restir-di or restir");
   if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
-  resolve_settings(o);
+  check_settings(o);
   auto t0 = std::chrono::steady_clock::now();
   Scene scene = load_frame_scene(o);
   size_t triangles = scene.triangle_count();
@@ -184,9 +132,10 @@ int run_view(RenderOptions& o, ViewerOptions& v) {
   if (!v.screenshot.empty()) check_output_path(v.screenshot, {".png"}, "--screenshot");
   if (v.headless && v.frames == 0) throw InputError("--headless needs --frames N");
   bool reservoir_view = v.view == DisplayView::ReservoirM || v.view == DisplayView::ReservoirW;
-  if (reservoir_view && o.method.rfind("restir", 0) != 0)
+  const bool restir = o.settings.method == Method::RestirDi || o.settings.method == Method::Restir;
+  if (reservoir_view && !restir)
     throw InputError("--show " + std::string(display_view_option(v.view)) + ": needs --method restir-di or restir");
-  resolve_settings(o);
+  check_settings(o);
   v.width = o.settings.width;
   v.height = o.settings.height;
   v.fps = o.fps;
@@ -195,70 +144,13 @@ int run_view(RenderOptions& o, ViewerOptions& v) {
   return run_viewer(load_frame_scene(o), o.settings, v);
 }
 
-// Options `render` and `view` share: the scene, the image size (view: the window's) and everything the
-// Renderer is set up with.
+// Options `render` and `view` share: the scene, every render setting (apps/settings_schema.h) and the
+// options that shape the scene and its output.
 void add_frame_options(CLI::App* cmd, RenderOptions& r) {
   cmd->add_option("scene", r.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file (render: not with --script)");
-  cmd->add_option("--width", r.settings.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  cmd->add_option("--height", r.settings.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  cmd->add_option("--spp", r.settings.spp, "Samples per pixel per frame")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  add_setting_options(*cmd, r.settings, kCommandLine);
   cmd->add_option("--fps", r.fps, "Scene time step between frames is 1/fps seconds (animated scenes)")
       ->check(CLI::Range(0.001f, 10000.0f))->capture_default_str();
-  cmd->add_option("--seed", r.settings.seed, "Random seed; same seed, same image, whatever the thread count")->capture_default_str();
-  cmd->add_option("--max-depth", r.settings.max_depth, "Path tracer bounces; 1 = direct light only")
-      ->check(CLI::Range(1, 1024))->capture_default_str();
-  cmd->add_option("--method", r.method,
-                  "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF sample "
-                  "combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling), restir "
-                  "(restir-di plus ReSTIR GI for indirect light, paths up to --max-depth)")
-      ->check(CLI::IsMember(keys_of(method_names())))->capture_default_str();
-  cmd->add_option("--di-candidates", r.settings.di.light_candidates, "restir-di: light candidates per pixel (M_l)")
-      ->check(CLI::Range(0, 1024))->capture_default_str();
-  cmd->add_option("--di-light-tiles", r.settings.di.light_tiles,
-                  "restir-di: draw light candidates from presampled light tiles: with the power and uniform light "
-                  "samplers this many per frame, shared by 16x16-pixel blocks; with tree and exhaustive each block "
-                  "draws its own for the region its points occupy (0 = off)")
-      ->check(CLI::Range(0, 4096))->capture_default_str();
-  cmd->add_option("--di-light-tile-size", r.settings.di.light_tile_size,
-                  "restir-di: light samples per light tile (0 = 1024 per shared tile, 128 per region tile)")
-      ->check(CLI::Range(0, 1 << 16))->capture_default_str();
-  cmd->add_option("--di-bsdf-candidates", r.settings.di.bsdf_candidates,
-                     "restir-di: BSDF-sampled candidates per pixel (M_b; one ray each)")
-      ->check(CLI::Range(0, 64))->capture_default_str();
-  cmd->add_flag("--di-visibility", r.settings.di.candidate_visibility,
-                   "restir-di: trace a shadow ray to the chosen candidate before reuse (drops occluded choices; "
-                   "the basic bias correction is then no longer exactly unbiased)");
-  cmd->add_flag("--di-mis-visibility", r.settings.di_reuse.mis_visibility,
-                   "restir-di: include visibility in the reuse MIS weights (unbiased also with --di-visibility; basic: "
-                   "(k+1)^2 shadow rays per pixel, pairwise: 2k)");
-  add_reuse_options(*cmd, "di", "restir-di", r.settings.di_reuse, r.di_reuse, r.di_bias);
-  add_reuse_options(*cmd, "gi", "restir (GI)", r.settings.gi_reuse, r.gi_reuse, r.gi_bias);
-  cmd->add_option("--gi-max-jacobian", r.settings.gi_reuse.max_jacobian,
-                  "restir: reject a reused GI sample whose reconnection Jacobian exceeds this (0 = off, unbiased; "
-                  "> 0 removes fireflies at the price of bias)")
-      ->check(CLI::Range(0.0f, 1e6f))->capture_default_str();
-  cmd->add_option("--gi-min-roughness", r.settings.gi_reuse.min_roughness,
-                  "restir: pixels smoother than this keep their own GI sample (no reuse on glossy surfaces)")
-      ->check(CLI::Range(0.0f, 1.0f))->capture_default_str();
-  cmd->add_option("--gi-max-age", r.settings.gi_reuse.max_sample_age,
-                  "restir: temporal reuse drops GI samples older than this many frames (0 = no limit)")
-      ->check(CLI::Range(0, 65535))->capture_default_str();
-  cmd->add_option("--denoise", r.denoise,
-                     "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
-                     "(spatiotemporal variance-guided filtering); both demodulate by albedo")
-      ->check(CLI::IsMember(keys_of(denoiser_names())))->capture_default_str();
-  cmd->add_option("--svgf-kernel", r.svgf_kernel,
-                  "svgf: the a-trous kernel, 3 (3x3 binomial) or 5 (the paper's 5x5 B3 spline, wider and slower)")
-      ->check(CLI::IsMember({3, 5}))->capture_default_str();
-  cmd->add_option("--light-sampler", r.light_sampler, "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's importance; slow oracle)")
-      ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();
-  cmd->add_option("--sampler", r.sampler,
-                  "direct and pt: where paths' random numbers come from: independent (PCG32) or sobol (Owen-scrambled "
-                  "Sobol points, stratified within each pixel's samples)")
-      ->check(CLI::IsMember(keys_of(sampler_names())))->capture_default_str();
-  cmd->add_option("--time-budget-ms", r.settings.time_budget_ms,
-                     "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds (overrides --spp)")
-      ->check(CLI::Range(0.0, 1e9));
   cmd->add_option("--exposure", r.exposure, "Exposure multiplier applied before tonemapping (PNG only)")
       ->check(CLI::Range(1e-6f, 1e6f))->capture_default_str();
   cmd->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024))->capture_default_str();
@@ -268,11 +160,6 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
                      "Uniform background radiance (grey); default: the built-in scene's own; for glTF files none if the file "
                      "has lights, else 0.3 with a warning")
       ->check(CLI::Range(0.0f, 1e6f));
-  cmd->add_flag("--no-jitter", [&r](int64_t) { r.settings.jitter = false; },
-                   "Primary rays through pixel centres instead of jittered positions (no anti-aliasing: isolates the "
-                   "light transport estimator in comparisons)");
-  cmd->add_flag("--no-accumulate", [&r](int64_t) { r.settings.accumulate = false; },
-                   "Output the last frame alone instead of accumulating frames while camera and scene are still");
   cmd->add_flag("--quiet,-q", r.quiet, "No progress output");
 }
 
@@ -306,7 +193,7 @@ int main(int argc, char** argv) {
                      "Frames to render; a still scene and camera accumulate across frames. With --script: the frames "
                      "FIRST:LAST (inclusive) of the script to render (a shard)")
       ->capture_default_str();
-  render->add_option("--script", r.script, "Render the frame sequence a shot script describes (JSON; see README)");
+  render->add_option("--script", r.script, "Render the frame sequence a shot script describes (JSON; see docs/sequences.md)");
   render->add_option("--warmup", r.warmup,
                      "--script: frames rendered but not written before the first frame to render, so temporal history is "
                      "warm (default: the script's \"warmup\"; unused with history_reset_every)")
@@ -317,6 +204,9 @@ int main(int argc, char** argv) {
                      "weight W), reservoir-light (chosen light, hashed colour); restir-di and restir (ReSTIR DI's reservoirs)")
       ->check(CLI::IsMember({"none", "reservoir-m", "reservoir-w", "reservoir-light"}))->capture_default_str();
   render->add_option("--stats", r.stats, "Write per-frame stage timings and ray counts as JSON");
+  bool help_markdown = false;
+  render->add_flag("--help-markdown", help_markdown,
+                   "Print every render setting as Markdown tables (docs/settings.md's generated part) and exit");
 
   RenderOptions view_frame;
   ViewerOptions viewer;
@@ -356,7 +246,6 @@ int main(int argc, char** argv) {
   c.base.jitter = false;
   c.methods = {"direct-uniform", "direct-power", "direct-tree", "direct-tree-sobol", "restir-di-none", "restir-di-basic",
                "restir-di-pairwise", "restir-di-pairwise+svgf", "pt", "pt-sobol", "restir"};
-  std::string converge_light_sampler = "tree";
   CLI::App* converge = app.add_subcommand("converge", "Error against samples and time of each method: CSV and a log-log plot");
   converge->add_option("scene", c.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
   converge->add_option("--csv", c.csv, "Output CSV: method, samples, time_ms, mse, rel_mse, mean_difference, standard_error, time_to_target_ms")
@@ -379,19 +268,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1e-12, 1e12))->capture_default_str();
   converge->add_option("--max-seconds", c.max_seconds, "Stop a method after the count at which it passed this time (0 = off)")
       ->check(CLI::Range(0.0, 1e9))->capture_default_str();
-  converge->add_option("--width", c.base.width, "Image width")->check(CLI::Range(1, 16384))->capture_default_str();
-  converge->add_option("--height", c.base.height, "Image height")->check(CLI::Range(1, 16384))->capture_default_str();
-  converge->add_option("--seed", c.base.seed, "Random seed of the methods (references use seed + 7919)")->capture_default_str();
-  converge->add_option("--max-depth", c.base.max_depth, "Path bounces (pt, restir's GI paths and their reference)")
-      ->check(CLI::Range(1, 1024))->capture_default_str();
-  converge->add_option("--light-sampler", converge_light_sampler, "Light sampler of pt, restir-di-* candidates and references")
-      ->check(CLI::IsMember(keys_of(light_sampler_names())))->capture_default_str();
   converge->add_option("--lights", c.lights, "builtin:manylights: number of ceiling lights")->check(CLI::Range(1, 4000000))->capture_default_str();
   converge->add_option("--environment", c.environment, "Uniform background radiance; default: the scene's own (none for a glTF file that has lights, 0.3 for one without)")->check(CLI::Range(0.0f, 1e6f));
   converge->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024));
-  converge->add_flag("--jitter", c.base.jitter,
-                     "Jitter primary rays (adds pixel-coverage noise of edges and small emitters to every method; "
-                     "default: pixel centres, which isolates the light transport estimators)");
+  add_setting_options(*converge, c.base, kConverge);
+  converge->footer("Every render setting not chosen by --methods applies to every method (docs/settings.md). "
+                   "Rendered references use --seed + 7919, independent random numbers and, for direct and pt "
+                   "methods, another light sampler than the method's own (power for tree, else tree).");
   converge->add_flag("--quiet,-q", c.quiet, "No progress output");
 
   BenchOptions b;
@@ -411,12 +294,10 @@ int main(int argc, char** argv) {
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
+    if (help_markdown) return std::printf("%s", settings_markdown().c_str()) < 0;
     if (render->parsed()) return r.script.empty() ? run_render(r) : run_script(*render, r);
     if (view->parsed()) return run_view(view_frame, viewer);
-    if (converge->parsed()) {
-      c.base.light_sampler = light_sampler_names().at(converge_light_sampler);
-      return run_converge(c);
-    }
+    if (converge->parsed()) return run_converge(c);
     if (compare->parsed()) {
       ImageError e = compare_images(read_image(compare_image), read_image(compare_reference));
       std::printf("mse %.6e rel_mse %.6e mean_difference %+.6e standard_error %.6e\n", e.mse, e.rel_mse, e.mean_difference,

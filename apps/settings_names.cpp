@@ -37,10 +37,4 @@ const std::vector<std::string>& di_reuse_names() {
   return names;
 }
 
-void set_reuse(const std::string& reuse, const std::string& bias, DiReuseParams& params) {
-  params.temporal = reuse == "temporal" || reuse == "both";
-  params.spatial = reuse == "spatial" || reuse == "both";
-  params.bias = di_bias_names().at(bias);
-}
-
 }  // namespace candela

@@ -1,6 +1,6 @@
 #pragma once
-// The names the command line and shot scripts give to RenderSettings' choices (one table each, so that
-// `render --method` and a script's "method" accept exactly the same words).
+// The names RenderSettings' choices have everywhere (the settings schema's choice rows, converge's method
+// names, messages): one table each.
 #include <map>
 #include <string>
 #include <vector>
@@ -14,10 +14,9 @@ const std::map<std::string, LightSamplerKind>& light_sampler_names();
 const std::map<std::string, SampleSequence>& sampler_names();
 const std::map<std::string, DenoiserKind>& denoiser_names();
 const std::map<std::string, DiBiasCorrection>& di_bias_names();
-// "none", "temporal", "spatial", "both": which reuse stages of a reservoir chain (ReSTIR DI's or GI's) run.
+// "none", "temporal", "spatial", "both" (index: temporal + 2 spatial): which reuse stages of a reservoir chain
+// (ReSTIR DI's or GI's) run.
 const std::vector<std::string>& di_reuse_names();
-// Sets the stages `reuse` names and the bias correction `bias` names (one of di_bias_names()).
-void set_reuse(const std::string& reuse, const std::string& bias, DiReuseParams& params);
 // The name `value` has in `names` (the inverse lookup, for messages and CSV columns).
 template <class T>
 std::string name_of(const std::map<std::string, T>& names, T value) {

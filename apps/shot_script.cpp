@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/settings_names.h"
+#include "apps/settings_schema.h"
 #include "engine/check.h"
 #include "engine/input_limits.h"
 
@@ -47,13 +48,15 @@ class ObjectReader {
     if (!(x >= lo && x <= hi)) fail(key, "must be in " + format(lo) + ".." + format(hi) + ", got " + v->dump());
     return x;
   }
-  int integer(const std::string& key, int lo, int hi, int fallback) {
+  int64_t integer(const std::string& key, int64_t lo, int64_t hi, int64_t fallback) {
     const json* v = get(key);
     if (!v) return fallback;
     if (!v->is_number_integer()) fail(key, "expected an integer, got " + v->dump());
+    if (v->is_number_unsigned() && v->get<uint64_t>() > uint64_t(std::numeric_limits<int64_t>::max()))
+      fail(key, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + v->dump());
     int64_t x = v->get<int64_t>();
     if (x < lo || x > hi) fail(key, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + v->dump());
-    return int(x);
+    return x;
   }
   bool flag(const std::string& key, bool fallback) {
     const json* v = get(key);
@@ -174,52 +177,35 @@ void check_pattern(const ObjectReader& r, const std::string& key, const std::str
     r.fail(key, "'" + pattern + "' must end in " + (exr_only ? ".exr" : ".exr or .png"));
 }
 
-// The reuse keys ReSTIR DI and GI share, as PREFIX + name ("di_" or "gi_"), the same as the --di-*/--gi-*
-// options of `render`.
-void read_reuse_params(ObjectReader& r, const std::string& prefix, DiReuseParams& p) {
-  auto key = [&](const char* name) { return prefix + name; };
-  const std::string reuse = r.choice(key("reuse"), di_reuse_names(), "both");
-  set_reuse(reuse, r.choice(key("bias"), keys_of(di_bias_names()), name_of(di_bias_names(), p.bias)), p);
-  p.spatial_neighbours = r.integer(key("neighbours"), 0, 31, p.spatial_neighbours);
-  p.spatial_radius = float(r.number(key("radius"), 1.0, 1000.0, p.spatial_radius));
-  p.spatial_passes = r.integer(key("spatial_passes"), 1, 8, p.spatial_passes);
-  p.disocclusion_neighbours = r.integer(key("disocclusion_neighbours"), 0, 31, p.disocclusion_neighbours);
-  p.boiling_threshold = float(r.number(key("boiling_filter"), 0.0, 1e6, p.boiling_threshold));
-  p.visibility_reuse_frames = r.integer(key("visibility_reuse"), 0, 255, p.visibility_reuse_frames);
-  p.drop_occluded = r.flag(key("drop_occluded"), p.drop_occluded);
-  p.permutation_sampling = r.flag(key("permutation"), p.permutation_sampling);
-  p.history_cap = float(r.number(key("history_cap"), 0.0, 1000.0, p.history_cap));
-}
-
+// Every schema row a script may give (apps/settings_schema.h), as its key; the rows it may not give are
+// refused with their reason. Then what one key alone cannot check: the image size.
 void read_render_settings(ObjectReader& r, ShotScript& s) {
   RenderSettings& st = s.settings;
-  st.width = r.integer("width", 1, 16384, st.width);
-  st.height = r.integer("height", 1, 16384, st.height);
-  if (int64_t(st.width) * st.height > (int64_t(1) << 26)) r.fail("width", "width x height: at most 67108864 pixels");
-  st.spp = r.integer("spp", 1, 1 << 20, st.spp);
-  st.seed = uint64_t(r.integer("seed", 0, std::numeric_limits<int>::max(), int(st.seed)));
-  st.max_depth = r.integer("max_depth", 1, 1024, st.max_depth);
-  st.method = r.named("method", method_names(), st.method);
-  st.light_sampler = r.named("light_sampler", light_sampler_names(), st.light_sampler);
-  st.sampler = r.named("sampler", sampler_names(), st.sampler);
-  st.denoise.kind = r.named("denoise", denoiser_names(), st.denoise.kind);
-  const int kernel = r.integer("svgf_kernel", 3, 5, 2 * st.denoise.svgf.atrous_radius + 1);
-  if (kernel == 4) r.fail("svgf_kernel", "must be 3 or 5, not 4");
-  st.denoise.svgf.atrous_radius = kernel / 2;
-  st.jitter = r.flag("jitter", st.jitter);
   st.accumulate = false;
-  st.di.light_candidates = r.integer("di_candidates", 0, 1024, st.di.light_candidates);
-  st.di.bsdf_candidates = r.integer("di_bsdf_candidates", 0, 64, st.di.bsdf_candidates);
-  st.di.light_tiles = r.integer("di_light_tiles", 0, 4096, st.di.light_tiles);
-  st.di.light_tile_size = r.integer("di_light_tile_size", 0, 1 << 16, st.di.light_tile_size);
-  st.di.candidate_visibility = r.flag("di_visibility", st.di.candidate_visibility);
-  st.di_reuse.mis_visibility = r.flag("di_mis_visibility", st.di_reuse.mis_visibility);
-  read_reuse_params(r, "di_", st.di_reuse);
-  read_reuse_params(r, "gi_", st.gi_reuse);
-  st.gi_reuse.max_jacobian = float(r.number("gi_max_jacobian", 0.0, 1e6, st.gi_reuse.max_jacobian));
-  st.gi_reuse.min_roughness = float(r.number("gi_min_roughness", 0.0, 1.0, st.gi_reuse.min_roughness));
-  st.gi_reuse.max_sample_age = r.integer("gi_max_age", 0, 65535, st.gi_reuse.max_sample_age);
-  if (r.has("time_budget_ms")) r.fail("time_budget_ms", "not allowed in scripts: a frame's samples must not depend on the clock");
+  for (const Setting& row : settings_schema()) {
+    if (!(row.scope & kScript)) {
+      if (r.has(row.key)) r.fail(row.key, "not allowed in scripts: " + row.refusal);
+      continue;
+    }
+    const double fallback = row.get(st);
+    switch (row.type) {
+      case SettingType::Int: {
+        const int64_t v = r.integer(row.key, int64_t(row.min), int64_t(row.max), int64_t(fallback));
+        if (!row.values.empty() && std::find(row.values.begin(), row.values.end(), v) == row.values.end())
+          r.fail(row.key, "must be " + row.range_text() + ", got " + std::to_string(v));
+        row.set(st, double(v));
+        break;
+      }
+      case SettingType::Float: row.set(st, r.number(row.key, row.min, row.max, fallback)); break;
+      case SettingType::Flag: row.set(st, r.flag(row.key, fallback != 0.0)); break;
+      case SettingType::Choice: {
+        const std::string name = r.choice(row.key, row.names, row.names.at(size_t(fallback)));
+        row.set(st, double(std::find(row.names.begin(), row.names.end(), name) - row.names.begin()));
+        break;
+      }
+    }
+  }
+  if (int64_t(st.width) * st.height > (int64_t(1) << 26)) r.fail("width", "width x height: at most 67108864 pixels");
 }
 
 void read_camera(ObjectReader& parent, ShotScript& s) {

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "apps/settings_schema.h"
+
 namespace candela {
 
 void FrameHistory::push(double frame_ms, FrameStats stats) {
@@ -85,115 +87,79 @@ void draw_stage_graph(const FrameHistory& history) {
   ImGui::EndTable();
 }
 
-// A combo box over named values; true when the choice changed.
-template <typename T>
-bool combo(const char* label, T& value, const std::vector<std::pair<T, const char*>>& choices) {
-  const char* current = "?";
-  for (const auto& [v, name] : choices)
-    if (v == value) current = name;
+// The label of a row's widget: its key without the group's prefix, words apart ("di_bsdf_candidates" ->
+// "bsdf candidates").
+std::string widget_label(const Setting& row) {
+  std::string label = row.key;
+  if (row.group == SettingGroup::RestirDi || row.group == SettingGroup::RestirGi) label = label.substr(3);
+  std::replace(label.begin(), label.end(), '_', ' ');
+  return label;
+}
+
+// A combo box over `names`; true when the choice changed.
+bool combo(const char* label, int& index, const std::vector<std::string>& names) {
   bool changed = false;
-  if (ImGui::BeginCombo(label, current)) {
-    for (const auto& [v, name] : choices) {
-      if (ImGui::Selectable(name, v == value) && v != value) {
-        value = v;
-        changed = true;
-      }
-    }
+  if (ImGui::BeginCombo(label, names.at(size_t(index)).c_str())) {
+    for (int i = 0; i < int(names.size()); ++i)
+      if (ImGui::Selectable(names[size_t(i)].c_str(), i == index) && i != index) index = i, changed = true;
     ImGui::EndCombo();
   }
   return changed;
 }
 
-// Sliders report a change when released, so dragging one reconfigures the Renderer once, not every frame.
-bool slider(const char* label, int& value, int min, int max) {
-  ImGui::SliderInt(label, &value, min, max);
-  return ImGui::IsItemDeactivatedAfterEdit();
-}
-bool slider(const char* label, float& value, float min, float max, const char* format = "%.1f") {
-  ImGui::SliderFloat(label, &value, min, max, format);
-  return ImGui::IsItemDeactivatedAfterEdit();
+// The widget of one schema row (apps/settings_schema.h), greyed out where the row does not apply to the
+// settings' method: a combo for names, a slider over [min, widget_max] for numbers (ctrl+click types any
+// value, clamped to the row's range), a checkbox for flags. The settings follow the widget as it moves;
+// true when a change is complete (a slider released), so dragging reconfigures the Renderer once.
+bool setting_widget(const Setting& row, RenderSettings& s) {
+  const std::string label = widget_label(row);
+  const double value = row.get(s);
+  const double top = row.widget_max > 0.0 ? row.widget_max : row.max;
+  bool done = false;
+  ImGui::BeginDisabled(!row.applies(s));
+  if (row.type == SettingType::Choice) {
+    int index = int(value);
+    if ((done = combo(label.c_str(), index, row.names))) row.set(s, double(index));
+  } else if (row.type == SettingType::Int && !row.values.empty()) {
+    std::vector<std::string> names;
+    for (int v : row.values) names.push_back(std::to_string(v));
+    int index = int(std::find(row.values.begin(), row.values.end(), int(value)) - row.values.begin());
+    if ((done = combo(label.c_str(), index, names))) row.set(s, double(row.values[size_t(index)]));
+  } else if (row.type == SettingType::Int) {
+    int v = int(value);
+    if (ImGui::SliderInt(label.c_str(), &v, int(row.min), int(top))) row.set(s, std::clamp(double(v), row.min, row.max));
+    done = ImGui::IsItemDeactivatedAfterEdit();
+  } else if (row.type == SettingType::Float) {
+    float v = float(value);
+    if (ImGui::SliderFloat(label.c_str(), &v, float(row.min), float(top), top <= 1.0 ? "%.2f" : "%.1f"))
+      row.set(s, std::clamp(double(v), row.min, row.max));
+    done = ImGui::IsItemDeactivatedAfterEdit();
+  } else {
+    bool v = value != 0.0;
+    if ((done = ImGui::Checkbox(label.c_str(), &v))) row.set(s, v ? 1.0 : 0.0);
+  }
+  ImGui::EndDisabled();
+  return done;
 }
 
-// Settings of the estimator, light selection and denoiser; true when one changed.
-bool draw_renderer_settings(HudState& state) {
-  RenderSettings& s = state.settings;
+// The widgets of every row of `group` the viewer shows; true when one changed.
+bool draw_group(SettingGroup group, RenderSettings& s) {
   bool changed = false;
-  changed |= combo<Method>("method", s.method, {{Method::PathTrace, "pt"}, {Method::Direct, "direct"}, {Method::RestirDi, "restir-di"},
-                                                     {Method::Restir, "restir"}});
-  changed |= combo<LightSamplerKind>("light sampler", s.light_sampler,
-                                     {{LightSamplerKind::Uniform, "uniform"}, {LightSamplerKind::Power, "power"},
-                                      {LightSamplerKind::Tree, "tree"}, {LightSamplerKind::Exhaustive, "exhaustive"}});
-  changed |= combo<SampleSequence>("sampler", s.sampler, {{SampleSequence::Independent, "independent"}, {SampleSequence::Sobol, "sobol"},
-                                                                  {SampleSequence::ZSobol, "zsobol"}});
-  changed |= combo<DenoiserKind>("denoiser", s.denoise.kind,
-                                 {{DenoiserKind::None, "none"}, {DenoiserKind::Bilateral, "bilateral"}, {DenoiserKind::Svgf, "svgf"}});
-  ImGui::BeginDisabled(s.denoise.kind != DenoiserKind::Svgf);
-  changed |= combo<int>("svgf kernel", s.denoise.svgf.atrous_radius, {{1, "3x3"}, {2, "5x5"}});
-  ImGui::EndDisabled();
-  changed |= slider("spp", s.spp, 1, 16);
-  ImGui::BeginDisabled(s.method != Method::PathTrace && s.method != Method::Restir);
-  changed |= slider("max depth", s.max_depth, 1, 16);
-  ImGui::EndDisabled();
-  changed |= slider("resolution scale", state.scale, 0.125f, 1.0f, "%.3f");
+  for (const Setting& row : settings_schema())
+    if (row.group == group && (row.scope & kViewer)) changed |= setting_widget(row, s);
+  return changed;
+}
+
+// The frame's and the denoiser's settings, then the viewer's own (render scale, target frame rate, paused
+// scene time); true when one that reconfigures the Renderer changed.
+bool draw_renderer_settings(HudState& state) {
+  bool changed = draw_group(SettingGroup::Frame, state.settings);
+  changed |= draw_group(SettingGroup::Denoiser, state.settings);
+  ImGui::SliderFloat("resolution scale", &state.scale, 0.125f, 1.0f, "%.3f");
+  changed |= ImGui::IsItemDeactivatedAfterEdit();
   ImGui::SliderFloat("target FPS", &state.target_fps, 0.0f, 120.0f, state.target_fps > 0.0f ? "%.0f" : "off");
   if (state.target_fps > 0.0f) ImGui::Text("dynamic resolution: x%.2f of the scale", state.dynamic_scale);
-  changed |= ImGui::Checkbox("accumulate", &s.accumulate);
-  ImGui::SameLine();
-  changed |= ImGui::Checkbox("jitter", &s.jitter);
-  ImGui::SameLine();
   ImGui::Checkbox("pause time", &state.pause_time);
-  return changed;
-}
-
-// One reservoir chain's reuse parameters (ReSTIR DI's or GI's); true when one changed.
-bool draw_reuse_settings(DiReuseParams& r) {
-  bool changed = false;
-  int reuse = int(r.temporal) | int(r.spatial) << 1;
-  if (combo<int>("reuse", reuse, {{0, "none"}, {1, "temporal"}, {2, "spatial"}, {3, "both"}})) {
-    r.temporal = reuse & 1;
-    r.spatial = reuse & 2;
-    changed = true;
-  }
-  changed |= combo<DiBiasCorrection>("bias", r.bias,
-                                     {{DiBiasCorrection::None, "none"}, {DiBiasCorrection::Basic, "basic"},
-                                      {DiBiasCorrection::Pairwise, "pairwise"}});
-  changed |= slider("neighbours", r.spatial_neighbours, 0, 31);
-  changed |= slider("radius (px)", r.spatial_radius, 1.0f, 64.0f, "%.1f");
-  changed |= slider("spatial passes", r.spatial_passes, 1, 8);
-  changed |= slider("disocclusion k", r.disocclusion_neighbours, 0, 31);
-  changed |= slider("history cap", r.history_cap, 0.0f, 100.0f, "%.1f");
-  changed |= slider("boiling filter", r.boiling_threshold, 0.0f, 100.0f, "%.1f");
-  changed |= slider("visibility reuse", r.visibility_reuse_frames, 0, 16);
-  changed |= ImGui::Checkbox("drop occluded", &r.drop_occluded);
-  changed |= ImGui::Checkbox("permutation sampling", &r.permutation_sampling);
-  return changed;
-}
-
-// ReSTIR DI candidates and reuse; true when one changed. Disabled unless the method is restir-di or restir.
-bool draw_restir_di_settings(RenderSettings& s) {
-  ImGui::BeginDisabled(s.method != Method::RestirDi && s.method != Method::Restir);
-  ImGui::PushID("di");
-  bool changed = false;
-  changed |= slider("candidates", s.di.light_candidates, 0, 64);
-  changed |= slider("bsdf candidates", s.di.bsdf_candidates, 0, 8);
-  changed |= ImGui::Checkbox("candidate visibility", &s.di.candidate_visibility);
-  changed |= ImGui::Checkbox("MIS visibility", &s.di_reuse.mis_visibility);
-  changed |= draw_reuse_settings(s.di_reuse);
-  ImGui::PopID();
-  ImGui::EndDisabled();
-  return changed;
-}
-
-// ReSTIR GI reuse and its sample rejections; true when one changed. Disabled unless the method is restir.
-bool draw_restir_gi_settings(RenderSettings& s) {
-  ImGui::BeginDisabled(s.method != Method::Restir);
-  ImGui::PushID("gi");
-  bool changed = draw_reuse_settings(s.gi_reuse);
-  changed |= slider("max Jacobian", s.gi_reuse.max_jacobian, 0.0f, 100.0f, "%.1f");
-  changed |= slider("min roughness", s.gi_reuse.min_roughness, 0.0f, 1.0f, "%.2f");
-  changed |= slider("max sample age", s.gi_reuse.max_sample_age, 0, 255);
-  ImGui::PopID();
-  ImGui::EndDisabled();
   return changed;
 }
 
@@ -238,8 +204,12 @@ HudActions draw_hud(HudState& state, const FrameHistory& history, const Renderer
     }
     ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);  // leaves room for the labels
     if (ImGui::CollapsingHeader("Renderer", ImGuiTreeNodeFlags_DefaultOpen)) actions.settings_changed |= draw_renderer_settings(state);
-    if (ImGui::CollapsingHeader("ReSTIR DI")) actions.settings_changed |= draw_restir_di_settings(state.settings);
-    if (ImGui::CollapsingHeader("ReSTIR GI")) actions.settings_changed |= draw_restir_gi_settings(state.settings);
+    for (SettingGroup group : {SettingGroup::RestirDi, SettingGroup::RestirGi}) {
+      if (!ImGui::CollapsingHeader(setting_group_name(group))) continue;
+      ImGui::PushID(int(group));  // the DI and GI widgets share their labels
+      actions.settings_changed |= draw_group(group, state.settings);
+      ImGui::PopID();
+    }
     if (ImGui::CollapsingHeader("View")) {
       for (DisplayView v : kDisplayViews) {
         ImGui::BeginDisabled(!display_view_available(v, renderer));
