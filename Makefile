@@ -1,7 +1,7 @@
 # Two entry points for a fresh Debian 12 machine:
 #   make run   installs missing packages, builds, renders the default built-in scene
 #   make test  installs missing packages, builds, runs every test in ctest
-# and the checked builds, each in its own directory (README, "Robustness"):
+# and the checked builds, each in its own directory (docs/testing.md, "Robustness"):
 #   make test-sanitize  AddressSanitizer + UndefinedBehaviorSanitizer: unit and command-line tests (CI)
 #   make test-tsan      ThreadSanitizer: a few frames of every method and denoiser (CI)
 #   make test-farm      the Slurm job array on a one-node cluster started for the test (CI; docs/farm.md)

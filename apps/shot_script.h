@@ -1,7 +1,7 @@
 #pragma once
 // A shot script (`candela render --script SHOT.json`): the scene, the render settings (keys named as the
 // `render` options, "--di-candidates" -> "di_candidates"), the frame range and rate, camera keyframes,
-// keyframed instance transforms, light power keyframes and where frames, AOVs and stats go. README.md
+// keyframed instance transforms, light power keyframes and where frames, AOVs and stats go. docs/sequences.md
 // documents the format; docs/shots/ holds examples. Every error names the script file and the key.
 #include <map>
 #include <optional>

@@ -38,8 +38,8 @@ struct SvgfParams {
   int atrous_iterations = 5;       // steps 1, 2, 4, 8, 16 (sec. 4.3)
   int atrous_radius = 1;           // taps per side: 1 = 3x3 binomial (1, 2, 1) / 4 (9 taps), 2 = the paper's 5x5
                                    // B3 spline (25 taps, reaches twice as far). 3x3 measured better and faster
-                                   // (README, "Denoiser cost"): the wider kernel blurs lighting more than it
-                                   // removes noise after temporal accumulation
+                                   // (docs/denoising.md, "The a-trous kernel"): the wider kernel blurs lighting
+                                   // more than it removes noise after temporal accumulation
   float sigma_luminance = 4.0f;    // sigma_l of the luminance edge-stopping (eq. 5)
   float luminance_epsilon = 1e-4f; // keeps w_l finite where the variance is zero
   float depth_tolerance = 0.05f;   // reprojection: relative depth difference accepted beyond the expected slope

@@ -1,6 +1,7 @@
 #pragma once
-// Two kinds of failure (DESIGN.md): bad input throws InputError with a message naming the file and the
-// place; a broken internal invariant is a CHECK, always on, which aborts with the failed condition.
+// Two kinds of failure (docs/design.md, "Failure handling"): bad input throws InputError with a message
+// naming the file and the place; a broken internal invariant is a CHECK, always on, which aborts with the
+// failed condition.
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>

@@ -35,7 +35,8 @@ using DiReservoir = Reservoir<DiSample>;
 
 struct DiParams {
   int light_candidates = 4;      // M_l: candidates per pixel from the light sampler (cost: M_l light samples + BSDF evaluations);
-                                 // 4 beat 8 at equal time on manylights, city and occluded_room (README, "Spatial neighbours")
+                                 // 4 beat 8 at equal time on manylights, city and occluded_room
+                                 // (docs/restir.md, "Spatial neighbours and light candidates")
   int bsdf_candidates = 1;       // M_b: candidates from BSDF sampling that hit an emitter (cost: one ray each)
   bool candidate_visibility = false;  // trace a shadow ray to the chosen candidate and drop it if occluded (1 ray per pixel)
   bool simd = true;              // evaluate light candidates in SIMD lanes (target_lanes.h); false: the scalar

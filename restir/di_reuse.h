@@ -42,7 +42,8 @@ struct DiReuseParams {
   bool drop_occluded = true;      // a reservoir whose sample the shading found occluded keeps its M but loses the
                                   // sample before it becomes history, so that reuse stops choosing it (see
                                   // Restir::reuse_and_shade; biased where visibility differs between frames or
-                                  // neighbours, about -1.5% on manylights; frame error 0.45-0.67x: README)
+                                  // neighbours, about -1.5% on manylights; frame error 0.45-0.67x:
+                                  // docs/restir.md, "Occluded samples")
   int max_sample_age = 0;         // > 0: temporal reuse drops history whose sample is older (frames); 0: no limit
   float min_roughness = 0.0f;     // pixels smoother than this keep their own reservoir (no reuse): where the BSDF
                                   // is sharp, neighbours' samples rarely fit and their weights explode

@@ -41,7 +41,7 @@ class LightTiles {
  public:
   static constexpr int kBlock = 16;  // pixels per side of the screen block that shares a tile
   // Entries per tile when DiParams::light_tile_size is 0: RTXDI's 1,024 for shared tiles; 128 for region
-  // tiles, where a block's 256 pixels share their own (equal-time sweep in the README, "Region light tiles").
+  // tiles, where a block's 256 pixels share their own (equal-time sweep in docs/restir.md, "Region light tiles").
   static constexpr int kSharedTileSize = 1024, kRegionTileSize = 128;
 
   // What a pixel reads: the tile's `size` entries and the context they were drawn for, with which the

@@ -16,7 +16,7 @@ constexpr uint32_t kNoSlot = 0xffffffffu;
 constexpr size_t kParallelGrain = 4096;  // subtrees smaller than this are built / refitted serially
 // Nodes of at most this many lights split at the median of the widest centroid axis instead of by the SAOH:
 // the build over StainedGlassLamp gridded to 1.39M emitters took 4.7 -> 3.8-4.0 s of setup, with no change
-// in the tree's equal-time error on manylights or StainedGlassLamp (README, "Light selection cost").
+// in the tree's equal-time error on manylights or StainedGlassLamp (docs/performance.md, "Light selection cost").
 constexpr size_t kSaohMinLights = 256;
 
 // A subtree of the binary tree: nodes [node, end).

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Turn off the emission of most cells of a gridded glTF scene (from ../shared/scenes/tools/make_manylight.py
 --grid), keeping the geometry: the same scene with a fraction of its lights, for comparing frame costs at
-equal geometry (README, "Setup of a million-light scene").
+equal geometry (docs/performance.md, "Setup of a million-light scene").
 
 usage: tools/dim_grid.py GRID.gltf OUT.gltf [--keep FRACTION]   (default 0.01: one cell in a hundred emits)
 

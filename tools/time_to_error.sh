@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The time-to-error study of the README ("Time to error"): every `candela converge` method on one scene,
+# The time-to-error study of docs/convergence.md ("Time to error"): every `candela converge` method on one scene,
 # direct-light methods against a direct-light reference and full-transport methods against a path-traced
 # one, each reference rendered once with Sobol numbers and another seed (cached in out/time_to_error/).
 # usage: tools/time_to_error.sh SCENE WIDTH HEIGHT direct|full [REFERENCE_SPP] [MAX_SECONDS]

@@ -1,7 +1,8 @@
 #pragma once
 // The OpenGL 3.3 core functions the viewer calls, loaded through the current context's GetProcAddress
 // (glfwGetProcAddress or OSMesaGetProcAddress). Nothing here links libGL or calls gl* by symbol: with
-// OSMesa in the process such calls would silently go to a dispatch table no context uses (DESIGN.md).
+// OSMesa in the process such calls would silently go to a dispatch table no context uses
+// (docs/design.md, "Build and dependencies").
 #include <GL/glcorearb.h>
 
 #include "apps/viewer/gl_context.h"
