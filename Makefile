@@ -6,6 +6,9 @@
 #   make test-tsan      ThreadSanitizer: a few frames of every method and denoiser (CI)
 #   make test-farm      the Slurm job array on a one-node cluster started for the test (CI; docs/farm.md)
 #   make fuzz           libFuzzer (clang): the glTF loader and the shot-script reader, FUZZ_SECONDS each
+# and the code style (.clang-format):
+#   make format         formats every C++ file in place
+#   make format-check   fails, listing the places, where a file is not formatted (CI)
 BUILD ?= build
 JOBS ?= 2
 SCENE ?= builtin:cornell
@@ -21,7 +24,10 @@ SANITIZE_EXCLUDE ?= ^(Convergence\.|Unbiased\.|ViewerHeadless\.|cli\.view_)
 SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1 \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 
-.PHONY: deps configure build run test bench clean test-sanitize test-tsan test-farm fuzz
+# The C++ files clang-format keeps; the albedo table is left as its generator prints it.
+FORMAT_FILES = $(shell git ls-files '*.cpp' '*.h' | grep -v '^engine/ggx_albedo_data.h$$')
+
+.PHONY: deps configure build run test bench clean test-sanitize test-tsan test-farm fuzz format format-check
 
 deps:
 	@bash tools/install_deps.sh
@@ -66,6 +72,14 @@ fuzz: deps
 	  -DCANDELA_FUZZ=ON -DCANDELA_SANITIZE=address,undefined -DBUILD_TESTING=OFF > /dev/null
 	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target candela_fuzz_gltf candela_fuzz_shot_script
 	@bash tools/fuzz.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+
+format:
+	@bash tools/install_deps.sh clang-format
+	@clang-format -i $(FORMAT_FILES)
+
+format-check:
+	@bash tools/install_deps.sh clang-format
+	@clang-format --dry-run --Werror $(FORMAT_FILES) && echo "format-check: $(words $(FORMAT_FILES)) files formatted"
 
 clean:
 	rm -rf $(BUILD) $(SANITIZE_BUILD) $(TSAN_BUILD) $(FUZZ_BUILD) out

@@ -22,19 +22,31 @@
 namespace candela {
 
 void add_bench_options(CLI::App& app, BenchOptions& o) {
-  app.add_option("--suite", o.suite, "rays: primary/shadow ray throughput per scene; samplers: light selection cost and light tree build/refit; "
-                 "restir: a ReSTIR DI frame and its stages next to its own rays traced alone (use --width 640 --height 360); "
-                 "denoise: cross-bilateral and SVGF time per frame at 640x360 and 1280x720; soak: --frames frames of "
-                 "restir + svgf on builtin:city with an orbiting camera, counting non-finite pixels and reporting VmRSS")
-      ->check(CLI::IsMember({"rays", "samplers", "restir", "denoise", "soak"}))->capture_default_str();
-  app.add_option("--scenes", o.scenes, "Scenes to measure (default: builtin:cornell builtin:manylights builtin:city "
-                                       "and StainedGlassLamp from ../shared/scenes when present)");
+  app.add_option(
+         "--suite", o.suite,
+         "rays: primary/shadow ray throughput per scene; samplers: light selection cost and light tree build/refit; "
+         "restir: a ReSTIR DI frame and its stages next to its own rays traced alone (use --width 640 --height 360); "
+         "denoise: cross-bilateral and SVGF time per frame at 640x360 and 1280x720; soak: --frames frames of "
+         "restir + svgf on builtin:city with an orbiting camera, counting non-finite pixels and reporting VmRSS")
+      ->check(CLI::IsMember({"rays", "samplers", "restir", "denoise", "soak"}))
+      ->capture_default_str();
+  app.add_option("--scenes", o.scenes,
+                 "Scenes to measure (default: builtin:cornell builtin:manylights builtin:city "
+                 "and StainedGlassLamp from ../shared/scenes when present)");
   app.add_option("--width", o.width, "Image width (default 1280; soak: 64)")->check(CLI::Range(16, 16384));
   app.add_option("--height", o.height, "Image height (default 720; soak: 36)")->check(CLI::Range(16, 16384));
-  app.add_option("--frames", o.soak_frames, "soak: frames to render")->check(CLI::Range(1, 100000000))->capture_default_str();
-  app.add_option("--threads", o.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024))->capture_default_str();
-  app.add_option("--min-time", o.min_time, "Minimum seconds per benchmark repetition")->check(CLI::Range(0.01, 600.0))->capture_default_str();
-  app.add_option("--repetitions", o.repetitions, "Repetitions; the summary quotes medians")->check(CLI::Range(1, 100))->capture_default_str();
+  app.add_option("--frames", o.soak_frames, "soak: frames to render")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  app.add_option("--threads", o.threads, "Worker threads; 0 = all cores")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  app.add_option("--min-time", o.min_time, "Minimum seconds per benchmark repetition")
+      ->check(CLI::Range(0.01, 600.0))
+      ->capture_default_str();
+  app.add_option("--repetitions", o.repetitions, "Repetitions; the summary quotes medians")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   app.add_option("--filter", o.filter, "Regular expression selecting benchmarks by name")->capture_default_str();
 }
 
@@ -60,7 +72,10 @@ uint64_t raw_primary_packets(const Tracer& tracer, const Camera& cam) {
       for (int bx = tile.x0; bx < tile.x1; bx += 4) {
         for (int lane = 0; lane < 16; ++lane) {
           int x = bx + (lane & 3), y = by + (lane >> 2);
-          if (x >= tile.x1 || y >= tile.y1) { packet.set_inactive(lane); continue; }
+          if (x >= tile.x1 || y >= tile.y1) {
+            packet.set_inactive(lane);
+            continue;
+          }
           packet.set(lane, Ray{cam.position(), cam.direction(x + 0.5f, y + 0.5f), 0.0f, kInfinity});
           ++n;
         }
@@ -82,7 +97,6 @@ struct BenchScene {
   Camera camera;
   GBuffer gbuffer;
 };
-
 
 // One shadow ray per G-buffer hit towards a point on a light chosen by pixel hash (uniformly);
 // packets of 16 (rtcOccluded16) or single rays (rtcOccluded1).
@@ -127,7 +141,8 @@ uint64_t shadow_rays(const BenchScene& s, bool packets) {
 // Remembers every repetition so the summary can quote medians and ratios from this one process.
 class CollectingReporter : public benchmark::ConsoleReporter {
  public:
-  explicit CollectingReporter(OutputOptions options, BenchResults& results) : ConsoleReporter(options), results_(results) {}
+  explicit CollectingReporter(OutputOptions options, BenchResults& results)
+      : ConsoleReporter(options), results_(results) {}
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& run : runs) {
       if (run.run_type != Run::RT_Iteration || run.iterations == 0) continue;
@@ -160,8 +175,9 @@ BenchResults run_registered_benchmarks(const BenchOptions& o) {
   char* argv[] = {arg0, filter_flag.data(), nullptr};
   benchmark::Initialize(&argc, argv);
   BenchResults results;
-  CollectingReporter reporter(isatty(fileno(stdout)) ? benchmark::ConsoleReporter::OO_Defaults
-                                                     : benchmark::ConsoleReporter::OO_Tabular, results);
+  CollectingReporter reporter(
+      isatty(fileno(stdout)) ? benchmark::ConsoleReporter::OO_Defaults : benchmark::ConsoleReporter::OO_Tabular,
+      results);
   benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::Shutdown();
   return results;
@@ -187,7 +203,8 @@ int run_bench(const BenchOptions& options) {
     s->camera = Camera(s->scene.default_camera(), o.width, o.height);
     RayCounter unused;
     trace_gbuffer(s->scene, *s->tracer, s->camera, s->camera, GBufferParams{1, 0, false}, s->gbuffer, unused);
-    std::fprintf(stderr, "%s: %zu triangles, %zu lights\n", source.c_str(), s->scene.triangle_count(), s->lights->size());
+    std::fprintf(stderr, "%s: %zu triangles, %zu lights\n", source.c_str(), s->scene.triangle_count(),
+                 s->lights->size());
     scenes.push_back(std::move(s));
   }
   std::vector<std::string> names;
@@ -196,11 +213,17 @@ int run_bench(const BenchOptions& options) {
     std::string name = bench_scene_name(sources[k]);
     names.push_back(name);
     auto add = [&](const std::string& kind, std::function<uint64_t()> body) {
-      benchmark::RegisterBenchmark((kind + "/" + name).c_str(), [body](benchmark::State& state) {
-        uint64_t rays = 0;
-        for (auto _ : state) rays += body();
-        state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-      })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
+      benchmark::RegisterBenchmark((kind + "/" + name).c_str(),
+                                   [body](benchmark::State& state) {
+                                     uint64_t rays = 0;
+                                     for (auto _ : state) rays += body();
+                                     state.counters["rays/s"] =
+                                         benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+                                   })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->MinTime(o.min_time)
+          ->Repetitions(o.repetitions);
     };
     add("raw_intersect16", [s] { return raw_primary_packets(*s->tracer, s->camera); });
     add("gbuffer", [s] {
@@ -214,9 +237,12 @@ int run_bench(const BenchOptions& options) {
   BenchResults results = run_registered_benchmarks(o);
 
   std::printf("\nSummary at %dx%d (medians of %d repetitions, Mrays/s):\n", o.width, o.height, o.repetitions);
-  std::printf("%-20s %12s %10s %12s %12s %12s\n", "scene", "raw_isect16", "gbuffer", "raw/gbuffer", "occluded16", "occluded1");
+  std::printf("%-20s %12s %10s %12s %12s %12s\n", "scene", "raw_isect16", "gbuffer", "raw/gbuffer", "occluded16",
+              "occluded1");
   for (const std::string& name : names) {
-    auto rate = [&](const std::string& kind) { return BenchResults::median(results.rays_per_second, kind + "/" + name) * 1e-6; };
+    auto rate = [&](const std::string& kind) {
+      return BenchResults::median(results.rays_per_second, kind + "/" + name) * 1e-6;
+    };
     double raw = rate("raw_intersect16"), gb = rate("gbuffer");
     std::printf("%-20s %12.2f %10.2f %12.2f %12.2f %12.2f\n", name.c_str(), raw, gb, gb > 0 ? raw / gb : 0.0,
                 rate("shadow_occluded16"), rate("shadow_occluded1"));

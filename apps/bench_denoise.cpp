@@ -38,10 +38,17 @@ struct DenoiseFrame {
 void register_denoiser(const std::string& name, const DenoiserParams& params, const DenoiseFrame& frame,
                        const BenchOptions& o) {
   auto denoiser = std::make_shared<Denoiser>(params);
-  benchmark::RegisterBenchmark((name + "/" + frame.size).c_str(), [denoiser, &frame](benchmark::State& state) {
-    FrameStats stats;
-    for (auto _ : state) benchmark::DoNotOptimize(denoiser->denoise(frame.gbuffer, frame.gbuffer, frame.noisy, stats));
-  })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
+  benchmark::RegisterBenchmark(
+      (name + "/" + frame.size).c_str(),
+      [denoiser, &frame](benchmark::State& state) {
+        FrameStats stats;
+        for (auto _ : state)
+          benchmark::DoNotOptimize(denoiser->denoise(frame.gbuffer, frame.gbuffer, frame.noisy, stats));
+      })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->MinTime(o.min_time)
+      ->Repetitions(o.repetitions);
 }
 
 // Per-stage milliseconds of `kind`, medians over 21 frames after 4 warm-up frames.
@@ -80,7 +87,8 @@ int run_denoise_bench(const BenchOptions& o) {
                 BenchResults::median(r.ns_per_iteration, "svgf5x5/" + f->size) * 1e-6);
   for (const auto& f : frames)
     for (DenoiserKind kind : {DenoiserKind::Bilateral, DenoiserKind::Svgf}) {
-      std::printf("stages of %s at %s (medians over 21 frames):\n", kind == DenoiserKind::Svgf ? "svgf" : "bilateral", f->size.c_str());
+      std::printf("stages of %s at %s (medians over 21 frames):\n", kind == DenoiserKind::Svgf ? "svgf" : "bilateral",
+                  f->size.c_str());
       print_stages(kind, *f);
     }
   return 0;

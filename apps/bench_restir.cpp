@@ -87,11 +87,17 @@ std::unique_ptr<RestirBenchScene> warm_scene(const std::string& source, Method m
 
 // Registers `name`: each iteration runs `body` once, which returns the rays it traced.
 void register_rays_benchmark(const std::string& name, const BenchOptions& o, std::function<uint64_t()> body) {
-  benchmark::RegisterBenchmark(name.c_str(), [body](benchmark::State& state) {
-    uint64_t rays = 0;
-    for (auto _ : state) rays += body();
-    state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-  })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(o.min_time)->Repetitions(o.repetitions);
+  benchmark::RegisterBenchmark(name.c_str(),
+                               [body](benchmark::State& state) {
+                                 uint64_t rays = 0;
+                                 for (auto _ : state) rays += body();
+                                 state.counters["rays/s"] =
+                                     benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+                               })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->MinTime(o.min_time)
+      ->Repetitions(o.repetitions);
 }
 
 }  // namespace
@@ -115,11 +121,12 @@ int run_restir_bench(const BenchOptions& o) {
   }
   BenchResults results = run_registered_benchmarks(o);
 
-  std::printf("\nSummary at %dx%d (medians of %d repetitions; stages: medians over all measured frames), ms:\n", o.width,
-              o.height, o.repetitions);
+  std::printf("\nSummary at %dx%d (medians of %d repetitions; stages: medians over all measured frames), ms:\n",
+              o.width, o.height, o.repetitions);
   for (const auto& s : scenes) {
     const bool di = s->method == Method::RestirDi;
-    double frame = BenchResults::median(results.ns_per_iteration, (di ? "restir_di_frame/" : "restir_frame/") + s->name) * 1e-6;
+    double frame =
+        BenchResults::median(results.ns_per_iteration, (di ? "restir_di_frame/" : "restir_frame/") + s->name) * 1e-6;
     std::printf("%-20s %-9s frame %8.1f |", s->name.c_str(), di ? "restir-di" : "restir", frame);
     if (di) {
       double alone = BenchResults::median(results.ns_per_iteration, "restir_di_rays_alone/" + s->name) * 1e-6;

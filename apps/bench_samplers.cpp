@@ -64,15 +64,20 @@ void register_sampler(const std::string& name, const SamplerScene& s, const Benc
 // lobe: 1D) from a new stream per path, as path_trace makes them.
 template <class MakeStream>
 void register_stream(const std::string& name, const BenchOptions& o, MakeStream make) {
-  benchmark::RegisterBenchmark(("stream/" + name).c_str(), [make](benchmark::State& state) {
-    uint32_t k = 0;
-    for (auto _ : state) {
-      auto stream = make(k++);
-      vec2 sum = stream.next_2d() + stream.next_2d() + stream.next_2d() + stream.next_2d();
-      sum.x += stream.next_float();
-      benchmark::DoNotOptimize(sum);
-    }
-  })->MinTime(o.min_time)->Repetitions(o.repetitions)->UseRealTime()->Unit(benchmark::kNanosecond);
+  benchmark::RegisterBenchmark(("stream/" + name).c_str(),
+                               [make](benchmark::State& state) {
+                                 uint32_t k = 0;
+                                 for (auto _ : state) {
+                                   auto stream = make(k++);
+                                   vec2 sum = stream.next_2d() + stream.next_2d() + stream.next_2d() + stream.next_2d();
+                                   sum.x += stream.next_float();
+                                   benchmark::DoNotOptimize(sum);
+                                 }
+                               })
+      ->MinTime(o.min_time)
+      ->Repetitions(o.repetitions)
+      ->UseRealTime()
+      ->Unit(benchmark::kNanosecond);
 }
 
 }  // namespace
@@ -88,22 +93,36 @@ int run_sampler_bench(const BenchOptions& o) {
   }
   // Build over the largest list; refit of a 100k-light tree.
   const SamplerScene& big = *keep[keep.size() - 1];
-  benchmark::RegisterBenchmark(("tree_build/" + std::to_string(big.lights->size())).c_str(), [&big](benchmark::State& state) {
-    for (auto _ : state) benchmark::DoNotOptimize(LightTreeSampler(*big.lights).node_count());
-  })->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(o.repetitions)->Iterations(1);
+  benchmark::RegisterBenchmark(("tree_build/" + std::to_string(big.lights->size())).c_str(),
+                               [&big](benchmark::State& state) {
+                                 for (auto _ : state)
+                                   benchmark::DoNotOptimize(LightTreeSampler(*big.lights).node_count());
+                               })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Repetitions(o.repetitions)
+      ->Iterations(1);
   const SamplerScene& mid = *keep[keep.size() - 2];
   auto tree = std::make_shared<LightTreeSampler>(*mid.lights);
-  benchmark::RegisterBenchmark(("tree_refit/" + std::to_string(mid.lights->size())).c_str(), [tree, &mid](benchmark::State& state) {
-    for (auto _ : state) tree->refit(*mid.lights);
-  })->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(o.repetitions)->MinTime(o.min_time);
+  benchmark::RegisterBenchmark(("tree_refit/" + std::to_string(mid.lights->size())).c_str(),
+                               [tree, &mid](benchmark::State& state) {
+                                 for (auto _ : state) tree->refit(*mid.lights);
+                               })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Repetitions(o.repetitions)
+      ->MinTime(o.min_time);
 
   register_stream("independent", o, [](uint32_t k) { return Rng::for_key(1, k >> 4, k & 15u, 0); });
   register_stream("sobol", o, [](uint32_t k) { return SobolStream::for_pixel(1, k >> 4, 0, k & 15u); });
-  register_stream("zsobol", o, [](uint32_t k) { return SobolStream::for_screen(1, 0, zsobol_index(k >> 4 & 511u, k >> 13, 4, k & 15u)); });
+  register_stream("zsobol", o, [](uint32_t k) {
+    return SobolStream::for_screen(1, 0, zsobol_index(k >> 4 & 511u, k >> 13, 4, k & 15u));
+  });
 
   BenchResults r = run_registered_benchmarks(o);
   std::printf("\nSummary (medians of %d repetitions, ns per call):\n%-10s", o.repetitions, "lights");
-  for (const char* k : {"uniform", "power", "tree"}) std::printf(" %12s %12s", (std::string(k) + " smp").c_str(), (std::string(k) + " pmf").c_str());
+  for (const char* k : {"uniform", "power", "tree"})
+    std::printf(" %12s %12s", (std::string(k) + " smp").c_str(), (std::string(k) + " pmf").c_str());
   std::printf("\n");
   for (const auto& s : keep) {
     std::string n = std::to_string(s->lights->size());
@@ -115,13 +134,18 @@ int run_sampler_bench(const BenchOptions& o) {
   }
   std::printf("tree build over %zu lights: %.0f ms; refit of %zu lights: %.2f ms\n", big.lights->size(),
               BenchResults::median(r.ns_per_iteration, "tree_build/" + std::to_string(big.lights->size())) * 1e-6,
-              mid.lights->size(), BenchResults::median(r.ns_per_iteration, "tree_refit/" + std::to_string(mid.lights->size())) * 1e-6);
-  std::printf("random numbers of one direct-light path (4 x 2D + 1D, new stream): independent %.1f ns, sobol %.1f ns, "
-              "zsobol %.1f ns\n", BenchResults::median(r.ns_per_iteration, "stream/independent"),
-              BenchResults::median(r.ns_per_iteration, "stream/sobol"), BenchResults::median(r.ns_per_iteration, "stream/zsobol"));
+              mid.lights->size(),
+              BenchResults::median(r.ns_per_iteration, "tree_refit/" + std::to_string(mid.lights->size())) * 1e-6);
+  std::printf(
+      "random numbers of one direct-light path (4 x 2D + 1D, new stream): independent %.1f ns, sobol %.1f ns, "
+      "zsobol %.1f ns\n",
+      BenchResults::median(r.ns_per_iteration, "stream/independent"),
+      BenchResults::median(r.ns_per_iteration, "stream/sobol"),
+      BenchResults::median(r.ns_per_iteration, "stream/zsobol"));
   LightTreeSampler big_tree(*big.lights);
   std::printf("tree over %zu lights: %zu nodes of %d children in %d levels, %.1f bytes per light\n", big.lights->size(),
-              big_tree.node_count(), kTreeWidth, big_tree.depth(), double(big_tree.memory_bytes()) / double(big.lights->size()));
+              big_tree.node_count(), kTreeWidth, big_tree.depth(),
+              double(big_tree.memory_bytes()) / double(big.lights->size()));
   return 0;
 }
 

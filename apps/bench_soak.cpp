@@ -63,10 +63,11 @@ int run_soak_bench(const BenchOptions& o) {
     std::fflush(stdout);  // progress shows through pipes and logs as it happens
   }
   const double rss_end = resident_mib();
-  std::printf("soak summary: %d frames, non-finite pixels %llu, dropped NaN/Inf %llu, VmRSS %.1f MiB after warm-up, "
-              "%.1f MiB at the end (%+.1f MiB), %.2f ms/frame\n",
-              o.soak_frames, static_cast<unsigned long long>(bad_pixels), static_cast<unsigned long long>(dropped),
-              rss_after_warmup, rss_end, rss_end - rss_after_warmup, total_ms / o.soak_frames);
+  std::printf(
+      "soak summary: %d frames, non-finite pixels %llu, dropped NaN/Inf %llu, VmRSS %.1f MiB after warm-up, "
+      "%.1f MiB at the end (%+.1f MiB), %.2f ms/frame\n",
+      o.soak_frames, static_cast<unsigned long long>(bad_pixels), static_cast<unsigned long long>(dropped),
+      rss_after_warmup, rss_end, rss_end - rss_after_warmup, total_ms / o.soak_frames);
   return bad_pixels == 0 && dropped == 0 ? 0 : 1;
 }
 

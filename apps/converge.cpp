@@ -29,11 +29,12 @@ const std::vector<ConvergeMethod>& converge_methods() {
                      }});
     }
     for (const char* bias : {"none", "basic", "pairwise"})
-      m.push_back({std::string("restir-di-") + bias, Transport::Direct, [mode = di_bias_names().at(bias)](RenderSettings& s) {
-                     s.method = Method::RestirDi;
-                     s.di_reuse.temporal = s.di_reuse.spatial = true;
-                     s.di_reuse.bias = mode;
-                   }});
+      m.push_back(
+          {std::string("restir-di-") + bias, Transport::Direct, [mode = di_bias_names().at(bias)](RenderSettings& s) {
+             s.method = Method::RestirDi;
+             s.di_reuse.temporal = s.di_reuse.spatial = true;
+             s.di_reuse.bias = mode;
+           }});
     m.push_back({"pt", Transport::Full, [](RenderSettings& s) {
                    s.method = Method::PathTrace;
                    s.sampler = SampleSequence::Independent;
@@ -70,7 +71,8 @@ ConvergeMethod converge_method_named(const std::string& name) {
               s.denoise.kind = kind;
             }};
   }
-  throw InputError("--methods: unknown method '" + base + "' (known: " + names + ", each optionally followed by "
+  throw InputError("--methods: unknown method '" + base + "' (known: " + names +
+                   ", each optionally followed by "
                    "+bilateral or +svgf)");
 }
 
@@ -113,7 +115,8 @@ LightSamplerKind reference_light_sampler(const ConvergeMethod& method, const Ren
   RenderSettings settings = base;
   method.configure(settings);
   if (settings.method != Method::Direct && settings.method != Method::PathTrace) return settings.light_sampler;
-  const bool tree_like = settings.light_sampler == LightSamplerKind::Tree || settings.light_sampler == LightSamplerKind::Exhaustive;
+  const bool tree_like =
+      settings.light_sampler == LightSamplerKind::Tree || settings.light_sampler == LightSamplerKind::Exhaustive;
   return tree_like ? LightSamplerKind::Power : LightSamplerKind::Tree;
 }
 
@@ -136,7 +139,11 @@ double mse_slope(const std::vector<ConvergePoint>& points, int lo, int hi) {
   for (const ConvergePoint& p : points) {
     if (p.samples < lo || p.samples > hi) continue;
     double x = std::log(double(p.samples)), y = std::log(p.error.mse);
-    n += 1; sx += x; sy += y; sxx += x * x; sxy += x * y;
+    n += 1;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
   }
   CHECK(n >= 2);
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
@@ -160,7 +167,8 @@ Image reference_for(const ConvergeOptions& o, const Scene& scene, Transport tran
   Image image = render_reference(scene, transport, o.base, sampler, o.reference_spp, o.base.seed + 7919);
   if (!o.quiet)
     std::fprintf(stderr, "reference (%s, %s light sampler, %d spp): %.1f s\n",
-                 transport == Transport::Direct ? "direct" : "path traced", name_of(light_sampler_names(), sampler).c_str(), o.reference_spp,
+                 transport == Transport::Direct ? "direct" : "path traced",
+                 name_of(light_sampler_names(), sampler).c_str(), o.reference_spp,
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return image;
 }
@@ -187,12 +195,15 @@ void print_time_to_target(const std::vector<ConvergePoint>& points, const std::m
     if (p.method == last) continue;
     last = p.method;
     const double t = times.at(p.method);
-    if (t < 0.0) std::fprintf(stderr, "  %-26s not reached\n", p.method.c_str());
-    else std::fprintf(stderr, "  %-26s %10.1f ms  %6.2fx the fastest\n", p.method.c_str(), t, t / fastest);
+    if (t < 0.0)
+      std::fprintf(stderr, "  %-26s not reached\n", p.method.c_str());
+    else
+      std::fprintf(stderr, "  %-26s %10.1f ms  %6.2fx the fastest\n", p.method.c_str(), t, t / fastest);
   }
 }
 
-void write_csv(const std::string& path, const std::vector<ConvergePoint>& points, const std::map<std::string, double>& times) {
+void write_csv(const std::string& path, const std::vector<ConvergePoint>& points,
+               const std::map<std::string, double>& times) {
   std::filesystem::path target(path), tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
   {
     std::ofstream f(tmp);
@@ -213,7 +224,8 @@ void write_csv(const std::string& path, const std::vector<ConvergePoint>& points
 // relMSE against seconds, one line per method.
 LogLogPlot error_plot(const ConvergeOptions& o, const std::vector<ConvergePoint>& points) {
   LogLogPlot plot;
-  plot.title = o.scene + ", " + std::to_string(o.base.width) + "x" + std::to_string(o.base.height) + ", error against time";
+  plot.title =
+      o.scene + ", " + std::to_string(o.base.width) + "x" + std::to_string(o.base.height) + ", error against time";
   plot.x_label = "render time (s)";
   plot.y_label = "relMSE";
   for (const ConvergePoint& p : points) {
@@ -260,8 +272,9 @@ int run_converge(const ConvergeOptions& o) {
       std::vector<ConvergePoint> run = run_convergence(scene, m, o.base, counts, reference, o.max_seconds);
       if (!o.quiet)
         for (const ConvergePoint& p : run)
-          std::fprintf(stderr, "%-20s %5d spp %9.1f ms  MSE %.3e  relMSE %.3e  bias %+.2e +- %.2e\n", p.method.c_str(), p.samples,
-                       p.time_ms, p.error.mse, p.error.rel_mse, p.error.mean_difference, p.error.standard_error);
+          std::fprintf(stderr, "%-20s %5d spp %9.1f ms  MSE %.3e  relMSE %.3e  bias %+.2e +- %.2e\n", p.method.c_str(),
+                       p.samples, p.time_ms, p.error.mse, p.error.rel_mse, p.error.mean_difference,
+                       p.error.standard_error);
       points.insert(points.end(), run.begin(), run.end());
     }
   }

@@ -33,7 +33,6 @@ const std::vector<ConvergeMethod>& converge_methods();
 // denoised: the error of what a viewer shows); throws InputError listing the names.
 ConvergeMethod converge_method_named(const std::string& name);
 
-
 struct ConvergePoint {
   std::string method;
   int samples = 0;
@@ -45,8 +44,8 @@ struct ConvergePoint {
 // (increasing); stops early once the frames so far took more than `max_seconds` (0 = no limit).
 // `last_image`, if given, receives the image at the last count measured. Cost: max(counts) frames.
 std::vector<ConvergePoint> run_convergence(const Scene& scene, const ConvergeMethod& method, const RenderSettings& base,
-                                           const std::vector<int>& counts, const Image& reference, double max_seconds = 0.0,
-                                           Image* last_image = nullptr);
+                                           const std::vector<int>& counts, const Image& reference,
+                                           double max_seconds = 0.0, Image* last_image = nullptr);
 
 // The light sampler of the reference `method` is measured against. References are rendered by the direct
 // method or the path tracer; for those methods (direct-*, pt) the reference uses a light sampler the

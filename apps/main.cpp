@@ -103,8 +103,10 @@ int run_render(RenderOptions& o) {
   for (int f = 0; f < frames; ++f) {
     auto progress = [&](int done, int total) {
       if (o.quiet || (total > 0 && total <= 4)) return;
-      if (total > 0) std::fprintf(stderr, "\r  frame %d/%d: %d/%d spp", f + 1, frames, done, total);
-      else std::fprintf(stderr, "\r  frame %d/%d: %d spp", f + 1, frames, done);
+      if (total > 0)
+        std::fprintf(stderr, "\r  frame %d/%d: %d/%d spp", f + 1, frames, done, total);
+      else
+        std::fprintf(stderr, "\r  frame %d/%d: %d spp", f + 1, frames, done);
     };
     FrameStats stats = renderer.render_frame(f, float(f) / o.fps, camera, progress);
     if (!o.quiet) {
@@ -147,18 +149,25 @@ int run_view(RenderOptions& o, ViewerOptions& v) {
 // Options `render` and `view` share: the scene, every render setting (apps/settings_schema.h) and the
 // options that shape the scene and its output.
 void add_frame_options(CLI::App* cmd, RenderOptions& r) {
-  cmd->add_option("scene", r.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file (render: not with --script)");
+  cmd->add_option("scene", r.scene,
+                  "builtin:cornell|manylights|city, or a .gltf/.glb file (render: not with --script)");
   add_setting_options(*cmd, r.settings, kCommandLine);
   cmd->add_option("--fps", r.fps, "Scene time step between frames is 1/fps seconds (animated scenes)")
-      ->check(CLI::Range(0.001f, 10000.0f))->capture_default_str();
+      ->check(CLI::Range(0.001f, 10000.0f))
+      ->capture_default_str();
   cmd->add_option("--exposure", r.exposure, "Exposure multiplier applied before tonemapping (PNG only)")
-      ->check(CLI::Range(1e-6f, 1e6f))->capture_default_str();
-  cmd->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024))->capture_default_str();
+      ->check(CLI::Range(1e-6f, 1e6f))
+      ->capture_default_str();
+  cmd->add_option("--threads", r.threads, "Worker threads; 0 = all cores")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
   cmd->add_option("--lights", r.lights, "builtin:manylights: number of ceiling lights")
-      ->check(CLI::Range(1, 4000000))->capture_default_str();
-  cmd->add_option("--environment", r.environment,
-                     "Uniform background radiance (grey); default: the built-in scene's own; for glTF files none if the file "
-                     "has lights, else 0.3 with a warning")
+      ->check(CLI::Range(1, 4000000))
+      ->capture_default_str();
+  cmd->add_option(
+         "--environment", r.environment,
+         "Uniform background radiance (grey); default: the built-in scene's own; for glTF files none if the file "
+         "has lights, else 0.3 with a warning")
       ->check(CLI::Range(0.0f, 1e6f));
   cmd->add_flag("--quiet,-q", r.quiet, "No progress output");
 }
@@ -166,7 +175,8 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
 // `render --script`: the script holds scene and settings; only the run's own options may be given.
 int run_script(const CLI::App& render, const RenderOptions& o) {
   for (const CLI::Option* opt : render.get_options()) {
-    static const std::set<std::string> allowed = {"--script", "--frames", "--warmup", "--stop-after", "--threads", "--quiet", "--help"};
+    static const std::set<std::string> allowed = {"--script",  "--frames", "--warmup", "--stop-after",
+                                                  "--threads", "--quiet",  "--help"};
     if (opt->count() > 0 && !allowed.count(opt->get_name()) && !opt->get_name().empty())
       throw InputError(opt->get_name() + ": not allowed with --script (set it in " + o.script + ")");
   }
@@ -188,21 +198,29 @@ int main(int argc, char** argv) {
   RenderOptions r;
   CLI::App* render = app.add_subcommand("render", "Render a scene to an image file");
   add_frame_options(render, r);
-  render->add_option("--out,-o", r.out, "Output image: .exr (linear radiance) or .png (tonemapped sRGB) (not with --script)");
-  render->add_option("--frames", r.frames,
-                     "Frames to render; a still scene and camera accumulate across frames. With --script: the frames "
-                     "FIRST:LAST (inclusive) of the script to render (a shard)")
+  render->add_option("--out,-o", r.out,
+                     "Output image: .exr (linear radiance) or .png (tonemapped sRGB) (not with --script)");
+  render
+      ->add_option("--frames", r.frames,
+                   "Frames to render; a still scene and camera accumulate across frames. With --script: the frames "
+                   "FIRST:LAST (inclusive) of the script to render (a shard)")
       ->capture_default_str();
-  render->add_option("--script", r.script, "Render the frame sequence a shot script describes (JSON; see docs/sequences.md)");
-  render->add_option("--warmup", r.warmup,
-                     "--script: frames rendered but not written before the first frame to render, so temporal history is "
-                     "warm (default: the script's \"warmup\"; unused with history_reset_every)")
+  render->add_option("--script", r.script,
+                     "Render the frame sequence a shot script describes (JSON; see docs/sequences.md)");
+  render
+      ->add_option("--warmup", r.warmup,
+                   "--script: frames rendered but not written before the first frame to render, so temporal history is "
+                   "warm (default: the script's \"warmup\"; unused with history_reset_every)")
       ->check(CLI::Range(0, 100000));
-  render->add_option("--stop-after", r.stop_after, "--script: stop after writing this many frames")->check(CLI::Range(0, 1 << 30));
-  render->add_option("--aov", r.aov,
-                     "Write a debug view instead of radiance: reservoir-m (confidence M), reservoir-w (contribution "
-                     "weight W), reservoir-light (chosen light, hashed colour); restir-di and restir (ReSTIR DI's reservoirs)")
-      ->check(CLI::IsMember({"none", "reservoir-m", "reservoir-w", "reservoir-light"}))->capture_default_str();
+  render->add_option("--stop-after", r.stop_after, "--script: stop after writing this many frames")
+      ->check(CLI::Range(0, 1 << 30));
+  render
+      ->add_option(
+          "--aov", r.aov,
+          "Write a debug view instead of radiance: reservoir-m (confidence M), reservoir-w (contribution "
+          "weight W), reservoir-light (chosen light, hashed colour); restir-di and restir (ReSTIR DI's reservoirs)")
+      ->check(CLI::IsMember({"none", "reservoir-m", "reservoir-w", "reservoir-light"}))
+      ->capture_default_str();
   render->add_option("--stats", r.stats, "Write per-frame stage timings and ray counts as JSON");
   bool help_markdown = false;
   render->add_flag("--help-markdown", help_markdown,
@@ -210,71 +228,118 @@ int main(int argc, char** argv) {
 
   RenderOptions view_frame;
   ViewerOptions viewer;
-  CLI::App* view = app.add_subcommand("view", "Interactive viewer with per-frame timing (or --headless: off-screen frames to a PNG)");
+  CLI::App* view = app.add_subcommand(
+      "view", "Interactive viewer with per-frame timing (or --headless: off-screen frames to a PNG)");
   add_frame_options(view, view_frame);
   view->add_option("--scale", viewer.scale, "Render resolution = window resolution x scale")
-      ->check(CLI::Range(0.01f, 1.0f))->capture_default_str();
+      ->check(CLI::Range(0.01f, 1.0f))
+      ->capture_default_str();
   view->add_option("--target-fps", viewer.target_fps,
                    "Dynamic resolution: adapt the render scale (up to --scale) frame by frame to hold this frame rate "
                    "(0 = off)")
-      ->check(CLI::Range(0.0f, 1000.0f))->capture_default_str();
+      ->check(CLI::Range(0.0f, 1000.0f))
+      ->capture_default_str();
   view->add_flag("--headless", viewer.headless, "No window: draw frames and HUD off screen (OSMesa); needs --frames");
   view->add_option("--frames", viewer.frames, "Stop after this many frames (0 = when the window is closed)")
-      ->check(CLI::Range(0, 1 << 24))->capture_default_str();
-  view->add_option("--screenshot", viewer.screenshot, "After the last frame, write the window's content (frame + HUD) as PNG");
-  view->add_option("--camera-orbit", viewer.orbit_degrees_per_frame, "The camera orbits its target by this many degrees per frame")
+      ->check(CLI::Range(0, 1 << 24))
+      ->capture_default_str();
+  view->add_option("--screenshot", viewer.screenshot,
+                   "After the last frame, write the window's content (frame + HUD) as PNG");
+  view->add_option("--camera-orbit", viewer.orbit_degrees_per_frame,
+                   "The camera orbits its target by this many degrees per frame")
       ->check(CLI::Range(-360.0f, 360.0f));
   std::map<std::string, DisplayView> views;
   for (DisplayView v : kDisplayViews) views[display_view_option(v)] = v;
-  view->add_option("--show", viewer.view, "What is displayed first: radiance, or a debug view of the G-buffer (albedo, normal, "
-                                          "depth, motion) or of the reservoirs (reservoir-m, reservoir-w; restir-di or restir)")
-      ->transform(CLI::CheckedTransformer(views))->capture_default_str();
-  view->add_flag("--no-hud", [&viewer](int64_t) { viewer.hud = false; },
-                 "Show the frame alone, without the HUD (screenshots then equal `render` over the whole frame)");
-  view->add_option("--test-minimise", viewer.test_minimise_frame, "Test hook: minimise the window for 3 frames from this frame on")
+  view->add_option("--show", viewer.view,
+                   "What is displayed first: radiance, or a debug view of the G-buffer (albedo, normal, "
+                   "depth, motion) or of the reservoirs (reservoir-m, reservoir-w; restir-di or restir)")
+      ->transform(CLI::CheckedTransformer(views))
+      ->capture_default_str();
+  view->add_flag(
+      "--no-hud", [&viewer](int64_t) { viewer.hud = false; },
+      "Show the frame alone, without the HUD (screenshots then equal `render` over the whole frame)");
+  view->add_option("--test-minimise", viewer.test_minimise_frame,
+                   "Test hook: minimise the window for 3 frames from this frame on")
       ->check(CLI::Range(0, 1 << 24));
 
   std::string compare_image, compare_reference;
   CLI::App* compare = app.add_subcommand("compare", "Error of an image against a reference (EXR): MSE and relMSE");
   compare->add_option("image", compare_image, "Image to measure (.exr)")->required()->check(CLI::ExistingFile);
-  compare->add_option("reference", compare_reference, "Reference image (.exr), e.g. a converged render")->required()->check(CLI::ExistingFile);
+  compare->add_option("reference", compare_reference, "Reference image (.exr), e.g. a converged render")
+      ->required()
+      ->check(CLI::ExistingFile);
 
   ConvergeOptions c;
   c.base.width = 160;
   c.base.height = 90;
   c.base.light_sampler = LightSamplerKind::Tree;
   c.base.jitter = false;
-  c.methods = {"direct-uniform", "direct-power", "direct-tree", "direct-tree-sobol", "restir-di-none", "restir-di-basic",
-               "restir-di-pairwise", "restir-di-pairwise+svgf", "pt", "pt-sobol", "restir"};
-  CLI::App* converge = app.add_subcommand("converge", "Error against samples and time of each method: CSV and a log-log plot");
+  c.methods = {"direct-uniform",
+               "direct-power",
+               "direct-tree",
+               "direct-tree-sobol",
+               "restir-di-none",
+               "restir-di-basic",
+               "restir-di-pairwise",
+               "restir-di-pairwise+svgf",
+               "pt",
+               "pt-sobol",
+               "restir"};
+  CLI::App* converge =
+      app.add_subcommand("converge", "Error against samples and time of each method: CSV and a log-log plot");
   converge->add_option("scene", c.scene, "builtin:cornell|manylights|city, or a .gltf/.glb file")->required();
-  converge->add_option("--csv", c.csv, "Output CSV: method, samples, time_ms, mse, rel_mse, mean_difference, standard_error, time_to_target_ms")
+  converge
+      ->add_option(
+          "--csv", c.csv,
+          "Output CSV: method, samples, time_ms, mse, rel_mse, mean_difference, standard_error, time_to_target_ms")
       ->required();
-  converge->add_option("--plot", c.plot, "Output PNG: relMSE against time, log-log, one line per method (needs gnuplot)");
-  converge->add_option("--methods", c.methods, "Methods to run (direct-uniform, direct-power, direct-tree, their -sobol "
-                                               "twins, restir-di-none, restir-di-basic, restir-di-pairwise, pt, pt-sobol, "
-                                               "restir; any followed by +bilateral or +svgf: denoised)")
-      ->delimiter(',')->capture_default_str();
-  converge->add_option("--reference", c.reference, "Converged full-transport EXR for pt and restir (any renderer's, same size; default: rendered)")->check(CLI::ExistingFile);
-  converge->add_option("--reference-direct", c.reference_direct,
-                       "Converged direct-light EXR for direct-* and restir-di-* (default: rendered with --method direct)")
+  converge->add_option("--plot", c.plot,
+                       "Output PNG: relMSE against time, log-log, one line per method (needs gnuplot)");
+  converge
+      ->add_option("--methods", c.methods,
+                   "Methods to run (direct-uniform, direct-power, direct-tree, their -sobol "
+                   "twins, restir-di-none, restir-di-basic, restir-di-pairwise, pt, pt-sobol, "
+                   "restir; any followed by +bilateral or +svgf: denoised)")
+      ->delimiter(',')
+      ->capture_default_str();
+  converge
+      ->add_option("--reference", c.reference,
+                   "Converged full-transport EXR for pt and restir (any renderer's, same size; default: rendered)")
+      ->check(CLI::ExistingFile);
+  converge
+      ->add_option("--reference-direct", c.reference_direct,
+                   "Converged direct-light EXR for direct-* and restir-di-* (default: rendered with --method direct)")
       ->check(CLI::ExistingFile);
   converge->add_option("--reference-spp", c.reference_spp, "Samples per pixel of rendered references")
-      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
   converge->add_option("--max-spp", c.max_spp, "Largest sample count; counts are 1, 2, 4, ... up to it")
-      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
-  converge->add_option("--target-rel-mse", c.target_rel_mse,
-                       "The time-to-error summary: each method's wall time to this relMSE (log-log interpolated)")
-      ->check(CLI::Range(1e-12, 1e12))->capture_default_str();
-  converge->add_option("--max-seconds", c.max_seconds, "Stop a method after the count at which it passed this time (0 = off)")
-      ->check(CLI::Range(0.0, 1e9))->capture_default_str();
-  converge->add_option("--lights", c.lights, "builtin:manylights: number of ceiling lights")->check(CLI::Range(1, 4000000))->capture_default_str();
-  converge->add_option("--environment", c.environment, "Uniform background radiance; default: the scene's own (none for a glTF file that has lights, 0.3 for one without)")->check(CLI::Range(0.0f, 1e6f));
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  converge
+      ->add_option("--target-rel-mse", c.target_rel_mse,
+                   "The time-to-error summary: each method's wall time to this relMSE (log-log interpolated)")
+      ->check(CLI::Range(1e-12, 1e12))
+      ->capture_default_str();
+  converge
+      ->add_option("--max-seconds", c.max_seconds,
+                   "Stop a method after the count at which it passed this time (0 = off)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
+  converge->add_option("--lights", c.lights, "builtin:manylights: number of ceiling lights")
+      ->check(CLI::Range(1, 4000000))
+      ->capture_default_str();
+  converge
+      ->add_option("--environment", c.environment,
+                   "Uniform background radiance; default: the scene's own (none for a glTF file that has lights, 0.3 "
+                   "for one without)")
+      ->check(CLI::Range(0.0f, 1e6f));
   converge->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024));
   add_setting_options(*converge, c.base, kConverge);
-  converge->footer("Every render setting not chosen by --methods applies to every method (docs/settings.md). "
-                   "Rendered references use --seed + 7919, independent random numbers and, for direct and pt "
-                   "methods, another light sampler than the method's own (power for tree, else tree).");
+  converge->footer(
+      "Every render setting not chosen by --methods applies to every method (docs/settings.md). "
+      "Rendered references use --seed + 7919, independent random numbers and, for direct and pt "
+      "methods, another light sampler than the method's own (power for tree, else tree).");
   converge->add_flag("--quiet,-q", c.quiet, "No progress output");
 
   BenchOptions b;
@@ -300,8 +365,8 @@ int main(int argc, char** argv) {
     if (converge->parsed()) return run_converge(c);
     if (compare->parsed()) {
       ImageError e = compare_images(read_image(compare_image), read_image(compare_reference));
-      std::printf("mse %.6e rel_mse %.6e mean_difference %+.6e standard_error %.6e\n", e.mse, e.rel_mse, e.mean_difference,
-                  e.standard_error);
+      std::printf("mse %.6e rel_mse %.6e mean_difference %+.6e standard_error %.6e\n", e.mse, e.rel_mse,
+                  e.mean_difference, e.standard_error);
       return 0;
     }
     return run_bench(b);

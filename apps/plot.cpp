@@ -54,7 +54,8 @@ std::string gnuplot_script(const LogLogPlot& plot, const std::string& png) {
     << "set key outside right top\n"
     << "plot ";
   for (size_t k = 0; k < plot.series.size(); ++k)
-    s << (k ? ", " : "") << "$s" << k << " using 1:2 with linespoints lw 2 pt 7 ps 0.8 title " << quoted(plot.series[k].title);
+    s << (k ? ", " : "") << "$s" << k << " using 1:2 with linespoints lw 2 pt 7 ps 0.8 title "
+      << quoted(plot.series[k].title);
   s << "\n";
   return s.str();
 }
@@ -86,7 +87,8 @@ void draw_log_log_plot(const LogLogPlot& plot, const std::string& png) {
   if (ok) std::filesystem::rename(tmp, target, ec);
   if (!ok || ec) {
     std::filesystem::remove(tmp, ec);
-    throw InputError(png + ": gnuplot failed (" + gnuplot + ", exit status " + std::to_string(WEXITSTATUS(status)) + ")");
+    throw InputError(png + ": gnuplot failed (" + gnuplot + ", exit status " + std::to_string(WEXITSTATUS(status)) +
+                     ")");
   }
 }
 

@@ -10,7 +10,8 @@ AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& light
     case LightSamplerKind::Uniform: return UniformLightSampler(lights);
     case LightSamplerKind::Tree: return LightTreeSampler(lights);
     case LightSamplerKind::Exhaustive: return ExhaustiveLightSampler(lights);
-    case LightSamplerKind::Power: default: return PowerLightSampler(lights);
+    case LightSamplerKind::Power:
+    default: return PowerLightSampler(lights);
   }
 }
 
@@ -102,8 +103,8 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   if (accumulated_spp_ == 0) sample_epoch_ = uint64_t(frame_index);  // a new run of samples, new scrambles
   {
     StageTimer timer(stats, "gbuffer");
-    trace_gbuffer(scene_, *tracer_, camera_, prev_camera_, GBufferParams{settings_.seed, frame_index, settings_.jitter}, gbuffer_,
-                  timer.rays());
+    trace_gbuffer(scene_, *tracer_, camera_, prev_camera_, GBufferParams{settings_.seed, frame_index, settings_.jitter},
+                  gbuffer_, timer.rays());
   }
   // The estimator, in sample passes of at most 4 spp (1 under a time budget, and 1 for ReSTIR DI, whose
   // passes each resample anew at the G-buffer's points), so long renders can report progress.
@@ -119,10 +120,13 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
     const bool restir = settings_.method == Method::RestirDi || settings_.method == Method::Restir;
     int pass = restir || settings_.time_budget_ms > 0.0 ? 1 : std::min(4, settings_.spp - done);
     if (restir)
-      std::visit([&](const auto& sampler) {
-        restir_.pass(view, sampler, gbuffer_, restir_frame(), frame_index, done, stats, sum_);
-      }, sampler_);
-    else path_trace_pass(view, frame_index, done, pass, stats);
+      std::visit(
+          [&](const auto& sampler) {
+            restir_.pass(view, sampler, gbuffer_, restir_frame(), frame_index, done, stats, sum_);
+          },
+          sampler_);
+    else
+      path_trace_pass(view, frame_index, done, pass, stats);
     done += pass;
     accumulated_spp_ += pass;
     if (progress) progress(done, settings_.time_budget_ms > 0.0 ? 0 : settings_.spp);
@@ -130,7 +134,8 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   stats.spp = done;
   // Stage(s) of the denoiser (timed inside): the displayed image, filtered with this frame's G-buffer and
   // reprojected with last frame's.
-  if (settings_.denoise.kind != DenoiserKind::None) denoised_ = denoiser_.denoise(gbuffer_, prev_gbuffer_, noisy_image(), stats);
+  if (settings_.denoise.kind != DenoiserKind::None)
+    denoised_ = denoiser_.denoise(gbuffer_, prev_gbuffer_, noisy_image(), stats);
   stats.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }
@@ -151,7 +156,11 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int done,
     params.epoch = uint64_t(frame_index);
     while ((1 << params.log2_samples) < settings_.spp && params.log2_samples < 6) ++params.log2_samples;
   }
-  std::visit([&](const auto& sampler) { path_trace(view, sampler, params, frame_index, sum_, timer.rays(), timer.non_finite()); }, sampler_);
+  std::visit(
+      [&](const auto& sampler) {
+        path_trace(view, sampler, params, frame_index, sum_, timer.rays(), timer.non_finite());
+      },
+      sampler_);
 }
 
 RestirFrame Renderer::restir_frame() const {

@@ -45,23 +45,23 @@ inline DiReuseParams default_gi_reuse() {
 
 struct RenderSettings {
   int width = 640, height = 360;
-  int spp = 1;                 // samples per pixel per frame
-  int max_depth = 8;           // path tracer bounces (1 = direct light only)
+  int spp = 1;        // samples per pixel per frame
+  int max_depth = 8;  // path tracer bounces (1 = direct light only)
   uint64_t seed = 1;
   Method method = Method::PathTrace;
   LightSamplerKind light_sampler = LightSamplerKind::Power;
-  bool accumulate = true;      // progressive accumulation while camera and scene stay still
-  bool jitter = true;          // G-buffer rays through jittered positions (false: pixel centres)
+  bool accumulate = true;                          // progressive accumulation while camera and scene stay still
+  bool jitter = true;                              // G-buffer rays through jittered positions (false: pixel centres)
   SampleSequence sampler = SampleSequence::Sobol;  // direct and pt: Sobol, ZSobol or independent numbers
-  double time_budget_ms = 0.0; // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
-  DiParams di;                 // restir-di: initial candidates
-  DiReuseParams di_reuse;      // restir-di: temporal and spatial reuse
+  double time_budget_ms = 0.0;  // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
+  DiParams di;                  // restir-di: initial candidates
+  DiReuseParams di_reuse;       // restir-di: temporal and spatial reuse
   DiReuseParams gi_reuse = default_gi_reuse();  // restir: reuse of the GI samples
-  bool gi_only = false;        // restir: shade the indirect light alone (tests compare it with a reference)
+  bool gi_only = false;              // restir: shade the indirect light alone (tests compare it with a reference)
   bool stale_light_history = false;  // ablation for the tests: temporal reuse judges last frame's samples with
                                      // this frame's light placement instead of last frame's (biased where
                                      // lights move; Unbiased.MovingLights must reject it)
-  DenoiserParams denoise;      // the denoiser that finishes each frame (none by default)
+  DenoiserParams denoise;            // the denoiser that finishes each frame (none by default)
 };
 
 using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler, LightTreeSampler, ExhaustiveLightSampler>;
@@ -113,8 +113,8 @@ class Renderer {
   RenderSettings settings_;
   std::unique_ptr<Tracer> tracer_;
   LightList lights_;
-  LightList prev_lights_;     // last frame's light placement (scenes with motion only)
-  bool lights_moved_ = false; // lights_ differs from last frame's placement
+  LightList prev_lights_;      // last frame's light placement (scenes with motion only)
+  bool lights_moved_ = false;  // lights_ differs from last frame's placement
   AnyLightSampler sampler_;
   Camera camera_, prev_camera_;
   CameraDesc camera_desc_;

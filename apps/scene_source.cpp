@@ -18,8 +18,10 @@ void apply_default_environment(Scene& scene, const std::string& source) {
   scene.environment = vec3(0.0f);
   if (brings_light(scene)) return;
   scene.environment = vec3(kFallbackEnvironment);
-  std::fprintf(stderr, "warning: %s: no emissive material and no punctual light; lit by a uniform grey environment "
-               "of %g (--environment sets another)\n", source.c_str(), double(kFallbackEnvironment));
+  std::fprintf(stderr,
+               "warning: %s: no emissive material and no punctual light; lit by a uniform grey environment "
+               "of %g (--environment sets another)\n",
+               source.c_str(), double(kFallbackEnvironment));
 }
 
 // The scene as its source defines it (no environment rule), with the loader's warnings printed.
@@ -33,14 +35,17 @@ static Scene load_scene_file(const std::string& source, const BuiltinOptions& op
     if (shown++ < 10) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (report.warnings.size() > 10) std::fprintf(stderr, "warning: ... and %zu more\n", report.warnings.size() - 10);
   if (report.degenerate_triangles_skipped)
-    std::fprintf(stderr, "warning: %s: skipped %zu degenerate triangles\n", source.c_str(), report.degenerate_triangles_skipped);
+    std::fprintf(stderr, "warning: %s: skipped %zu degenerate triangles\n", source.c_str(),
+                 report.degenerate_triangles_skipped);
   return scene;
 }
 
 Scene load_scene(const std::string& source, const BuiltinOptions& options, float environment) {
   Scene scene = load_scene_file(source, options);
-  if (environment >= 0.0f) scene.environment = vec3(environment);
-  else apply_default_environment(scene, source);
+  if (environment >= 0.0f)
+    scene.environment = vec3(environment);
+  else
+    apply_default_environment(scene, source);
   return scene;
 }
 

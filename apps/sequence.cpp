@@ -27,10 +27,14 @@ Image aov_image(const GBuffer& g, const std::string& name) {
   Image out(g.width, g.height);
   for (size_t i = 0; i < g.size(); ++i) {
     if (!g.hit(i)) continue;
-    if (name == "albedo") out.pixels[i] = g.albedo[i];
-    else if (name == "normal") out.pixels[i] = g.shading_normal[i];
-    else if (name == "depth") out.pixels[i] = vec3(g.depth[i]);
-    else out.pixels[i] = vec3(g.motion[i], 0.0f);
+    if (name == "albedo")
+      out.pixels[i] = g.albedo[i];
+    else if (name == "normal")
+      out.pixels[i] = g.shading_normal[i];
+    else if (name == "depth")
+      out.pixels[i] = vec3(g.depth[i]);
+    else
+      out.pixels[i] = vec3(g.motion[i], 0.0f);
   }
   return out;
 }
@@ -38,8 +42,10 @@ Image aov_image(const GBuffer& g, const std::string& name) {
 // Stage "write": every image and AOV of `frame`, each file atomically. Cost: one image encode per file.
 void write_frame(const ShotScript& script, const Renderer& renderer, int frame) {
   Image image = renderer.image();
-  for (const std::string& pattern : script.output.images) write_image(frame_path(pattern, frame), image, script.output.exposure);
-  for (const auto& [name, pattern] : script.output.aovs) write_image(frame_path(pattern, frame), aov_image(renderer.gbuffer(), name));
+  for (const std::string& pattern : script.output.images)
+    write_image(frame_path(pattern, frame), image, script.output.exposure);
+  for (const auto& [name, pattern] : script.output.aovs)
+    write_image(frame_path(pattern, frame), aov_image(renderer.gbuffer(), name));
 }
 
 // Per-frame stats of this run: STATS.csv gets one row per stage and frame as each frame ends (long
@@ -56,7 +62,8 @@ class StatsFiles {
   void add(const FrameStats& stats, bool written, float time) {
     if (base_.empty()) return;
     auto row = [&](const std::string& stage, double ms, uint64_t rays, uint64_t non_finite) {
-      csv_ << stats.frame << ',' << int(written) << ',' << time << ',' << stats.spp << ',' << stage << ',' << ms << ',' << rays << ',' << non_finite << '\n';
+      csv_ << stats.frame << ',' << int(written) << ',' << time << ',' << stats.spp << ',' << stage << ',' << ms << ','
+           << rays << ',' << non_finite << '\n';
     };
     for (const StageStats& s : stats.stages) row(s.name, s.ms, s.rays, s.non_finite);
     row("total", stats.total_ms, stats.rays(), stats.non_finite());
@@ -81,8 +88,9 @@ void show_progress(int done, int total, double elapsed_s, int rendered, int warm
   int filled = total > 0 ? done * width / total : width;
   double per_frame = rendered > 0 ? elapsed_s / rendered : 0.0;
   int eta = int(per_frame * (total - done + warmup_left) + 0.5);
-  std::fprintf(stderr, "\r[%s%s] %d/%d frames, %.2f s/frame, ETA %d:%02d:%02d ", std::string(size_t(filled), '#').c_str(),
-               std::string(size_t(width - filled), '.').c_str(), done, total, per_frame, eta / 3600, eta / 60 % 60, eta % 60);
+  std::fprintf(stderr, "\r[%s%s] %d/%d frames, %.2f s/frame, ETA %d:%02d:%02d ",
+               std::string(size_t(filled), '#').c_str(), std::string(size_t(width - filled), '.').c_str(), done, total,
+               per_frame, eta / 3600, eta / 60 % 60, eta % 60);
 }
 
 }  // namespace
@@ -94,13 +102,17 @@ bool frame_finished(const ShotScript& script, int frame) {
   return true;
 }
 
-SequencePlan plan_sequence(const ShotScript& script, int first, int last, int warmup, const std::function<bool(int)>& finished) {
+SequencePlan plan_sequence(const ShotScript& script, int first, int last, int warmup,
+                           const std::function<bool(int)>& finished) {
   SequencePlan plan;
   const int start = script.first_frame, every = script.history_reset_every;
   auto reset_point = [&](int f) { return f == start || (every > 0 && (f - start) % every == 0); };
   std::set<int> render, write;
   for (int g = first; g <= last; ++g) {
-    if (finished(g)) { ++plan.finished; continue; }
+    if (finished(g)) {
+      ++plan.finished;
+      continue;
+    }
     write.insert(g);
     int w = 0;
     if (script.keeps_history()) w = every > 0 ? (g - start) % every : std::min(warmup, g - start);
@@ -133,8 +145,8 @@ std::pair<int, int> parse_frame_range(const std::string& text, const ShotScript&
   }
   if (a > b) throw InputError("--frames " + text + ": first frame after last");
   if (a < script.first_frame || b > script.last_frame())
-    throw InputError("--frames " + text + ": outside " + script.file + "'s frames " + std::to_string(script.first_frame) + ":" +
-                     std::to_string(script.last_frame()));
+    throw InputError("--frames " + text + ": outside " + script.file + "'s frames " +
+                     std::to_string(script.first_frame) + ":" + std::to_string(script.last_frame()));
   return {a, b};
 }
 
@@ -145,11 +157,12 @@ int run_sequence(const ShotScript& script, const SequenceOptions& options) {
   int to_write = 0;
   for (const PlannedFrame& p : plan.frames) to_write += p.write;
   if (!options.quiet) {
-    std::fprintf(stderr, "%s: frames %d:%d, %d already written, %d to render (+%zu warm-up)\n", script.file.c_str(), first, last,
-                 plan.finished, to_write, plan.frames.size() - size_t(to_write));
+    std::fprintf(stderr, "%s: frames %d:%d, %d already written, %d to render (+%zu warm-up)\n", script.file.c_str(),
+                 first, last, plan.finished, to_write, plan.frames.size() - size_t(to_write));
     if (!plan.exact)
-      std::fprintf(stderr, "note: the warm-up does not reach a history reset point: frames are statistically like a single "
-                           "run's but not bit-identical (set history_reset_every for exact shards)\n");
+      std::fprintf(stderr,
+                   "note: the warm-up does not reach a history reset point: frames are statistically like a single "
+                   "run's but not bit-identical (set history_reset_every for exact shards)\n");
   }
   if (plan.frames.empty()) return 0;
 
@@ -166,7 +179,8 @@ int run_sequence(const ShotScript& script, const SequenceOptions& options) {
   std::vector<std::string> files = output_patterns(script);
   files.push_back(script.output.stats);
   for (const std::string& pattern : files) {
-    std::filesystem::path dir = std::filesystem::path(pattern == script.output.stats ? pattern : frame_path(pattern, 0)).parent_path();
+    std::filesystem::path dir =
+        std::filesystem::path(pattern == script.output.stats ? pattern : frame_path(pattern, 0)).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
   }
   std::string stats_base = script.output.stats;

@@ -38,7 +38,8 @@ struct SequencePlan {
 // Which frames of [first, last] to render, in order: the unfinished ones, each after its warm-up
 // (history methods: back to the last history reset point if the script has them, else `warmup` frames,
 // never before the script's first frame). Reads only `finished(frame)`; costs O(frames).
-SequencePlan plan_sequence(const ShotScript& script, int first, int last, int warmup, const std::function<bool(int)>& finished);
+SequencePlan plan_sequence(const ShotScript& script, int first, int last, int warmup,
+                           const std::function<bool(int)>& finished);
 
 // A frame is finished when every output file of it exists (files appear atomically).
 bool frame_finished(const ShotScript& script, int frame);

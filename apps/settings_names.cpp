@@ -3,32 +3,37 @@
 namespace candela {
 
 const std::map<std::string, Method>& method_names() {
-  static const std::map<std::string, Method> names = {{"pt", Method::PathTrace}, {"direct", Method::Direct}, {"restir-di", Method::RestirDi},
+  static const std::map<std::string, Method> names = {{"pt", Method::PathTrace},
+                                                      {"direct", Method::Direct},
+                                                      {"restir-di", Method::RestirDi},
                                                       {"restir", Method::Restir}};
   return names;
 }
 
 const std::map<std::string, LightSamplerKind>& light_sampler_names() {
-  static const std::map<std::string, LightSamplerKind> names = {{"uniform", LightSamplerKind::Uniform}, {"power", LightSamplerKind::Power},
-                                                                {"tree", LightSamplerKind::Tree}, {"exhaustive", LightSamplerKind::Exhaustive}};
+  static const std::map<std::string, LightSamplerKind> names = {{"uniform", LightSamplerKind::Uniform},
+                                                                {"power", LightSamplerKind::Power},
+                                                                {"tree", LightSamplerKind::Tree},
+                                                                {"exhaustive", LightSamplerKind::Exhaustive}};
   return names;
 }
 
 const std::map<std::string, SampleSequence>& sampler_names() {
-  static const std::map<std::string, SampleSequence> names = {{"independent", SampleSequence::Independent}, {"sobol", SampleSequence::Sobol},
+  static const std::map<std::string, SampleSequence> names = {{"independent", SampleSequence::Independent},
+                                                              {"sobol", SampleSequence::Sobol},
                                                               {"zsobol", SampleSequence::ZSobol}};
   return names;
 }
 
 const std::map<std::string, DenoiserKind>& denoiser_names() {
-  static const std::map<std::string, DenoiserKind> names = {{"none", DenoiserKind::None}, {"bilateral", DenoiserKind::Bilateral},
-                                                            {"svgf", DenoiserKind::Svgf}};
+  static const std::map<std::string, DenoiserKind> names = {
+      {"none", DenoiserKind::None}, {"bilateral", DenoiserKind::Bilateral}, {"svgf", DenoiserKind::Svgf}};
   return names;
 }
 
 const std::map<std::string, DiBiasCorrection>& di_bias_names() {
-  static const std::map<std::string, DiBiasCorrection> names = {{"none", DiBiasCorrection::None}, {"basic", DiBiasCorrection::Basic},
-                                                                {"pairwise", DiBiasCorrection::Pairwise}};
+  static const std::map<std::string, DiBiasCorrection> names = {
+      {"none", DiBiasCorrection::None}, {"basic", DiBiasCorrection::Basic}, {"pairwise", DiBiasCorrection::Pairwise}};
   return names;
 }
 

@@ -10,25 +10,35 @@ void add_setting_options(CLI::App& command, RenderSettings& settings, unsigned s
     auto set = [&settings, &row](double v) { row.set(settings, v); };
     switch (row.type) {
       case SettingType::Int: {
-        CLI::Option* o = command.add_option_function<int64_t>(row.option(), [set](const int64_t& v) { set(double(v)); }, doc);
-        if (row.values.empty()) o->check(CLI::Range(int64_t(row.min), int64_t(row.max)));
-        else o->check(CLI::IsMember(row.values));
+        CLI::Option* o = command.add_option_function<int64_t>(
+            row.option(), [set](const int64_t& v) { set(double(v)); }, doc);
+        if (row.values.empty())
+          o->check(CLI::Range(int64_t(row.min), int64_t(row.max)));
+        else
+          o->check(CLI::IsMember(row.values));
         o->default_str(fallback);
         break;
       }
       case SettingType::Float:
-        command.add_option_function<double>(row.option(), [set](const double& v) { set(v); }, doc)
+        command
+            .add_option_function<double>(
+                row.option(), [set](const double& v) { set(v); }, doc)
             ->check(CLI::Range(row.min, row.max))
             ->default_str(fallback);
         break;
       case SettingType::Flag:
-        command.add_flag_function(row.option() + ",!--" + row.off_option, [set](int64_t count) { set(count > 0); },
-                                  doc + " (default: " + (fallback == "true" ? row.option() : "--" + row.off_option) + ")");
+        command.add_flag_function(
+            row.option() + ",!--" + row.off_option, [set](int64_t count) { set(count > 0); },
+            doc + " (default: " + (fallback == "true" ? row.option() : "--" + row.off_option) + ")");
         break;
       case SettingType::Choice:
-        command.add_option_function<std::string>(row.option(), [set, &row](const std::string& name) {
-                 set(double(std::find(row.names.begin(), row.names.end(), name) - row.names.begin()));
-               }, doc)
+        command
+            .add_option_function<std::string>(
+                row.option(),
+                [set, &row](const std::string& name) {
+                  set(double(std::find(row.names.begin(), row.names.end(), name) - row.names.begin()));
+                },
+                doc)
             ->check(CLI::IsMember(row.names))
             ->default_str(fallback);
         break;

@@ -67,7 +67,9 @@ template <class Params>
 void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, SettingGroup group, unsigned methods,
                        Params params) {
   auto key = [&](const char* name) { return prefix + "_" + name; };
-  auto field = [params](auto pointer) { return [params, pointer](auto& s) -> auto& { return params(s).*pointer; }; };
+  auto field = [params](auto pointer) {
+    return [ params, pointer ](auto& s) -> auto& { return params(s).*pointer; };
+  };
   const bool gi = group == SettingGroup::RestirGi;
   Setting reuse;
   reuse.key = key("reuse");
@@ -77,7 +79,9 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
   reuse.methods = methods;
   reuse.scope = kEverywhere & ~kConverge;
   reuse.names = di_reuse_names();  // index = temporal + 2 spatial
-  reuse.get = [params](const RenderSettings& s) { return double(int(params(s).temporal) + 2 * int(params(s).spatial)); };
+  reuse.get = [params](const RenderSettings& s) {
+    return double(int(params(s).temporal) + 2 * int(params(s).spatial));
+  };
   reuse.set = [params](RenderSettings& s, double v) {
     params(s).temporal = (int(v) & 1) != 0;
     params(s).spatial = (int(v) & 2) != 0;
@@ -88,8 +92,8 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
                             "evaluations) or pairwise (pairwise MIS, k evaluations)",
                             methods));
   rows.back().scope = kEverywhere & ~kConverge;
-  rows.push_back(number_row(key("neighbours"), group, SettingType::Int, 0, 31, field(&DiReuseParams::spatial_neighbours),
-                            "Spatial neighbours per pass", methods));
+  rows.push_back(number_row(key("neighbours"), group, SettingType::Int, 0, 31,
+                            field(&DiReuseParams::spatial_neighbours), "Spatial neighbours per pass", methods));
   rows.push_back(number_row(key("radius"), group, SettingType::Float, 1, 1000, field(&DiReuseParams::spatial_radius),
                             "Spatial reuse radius in pixels", methods));
   rows.back().widget_max = 64;
@@ -98,7 +102,8 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
   rows.push_back(number_row(key("disocclusion_neighbours"), group, SettingType::Int, 0, 31,
                             field(&DiReuseParams::disocclusion_neighbours),
                             "Spatial neighbours (first pass) for pixels whose temporal history was lost", methods));
-  rows.push_back(number_row(key("boiling_filter"), group, SettingType::Float, 0, 1e6, field(&DiReuseParams::boiling_threshold),
+  rows.push_back(number_row(key("boiling_filter"), group, SettingType::Float, 0, 1e6,
+                            field(&DiReuseParams::boiling_threshold),
                             "Drop reservoirs whose estimated contribution exceeds this many times their 16x16 block's "
                             "mean, after temporal reuse (0 = off; biased: removes energy)",
                             methods));
@@ -119,13 +124,15 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
                             "The previous frame's reservoir counts at most this many times the current M", methods));
   rows.back().widget_max = 100;
   if (!gi) return;
-  rows.push_back(number_row("gi_max_jacobian", group, SettingType::Float, 0, 1e6, field(&DiReuseParams::max_jacobian),
-                            "Reject a reused GI sample whose reconnection Jacobian exceeds this (0 = off, unbiased; > 0 "
-                            "removes fireflies at the price of bias)",
-                            methods));
+  rows.push_back(
+      number_row("gi_max_jacobian", group, SettingType::Float, 0, 1e6, field(&DiReuseParams::max_jacobian),
+                 "Reject a reused GI sample whose reconnection Jacobian exceeds this (0 = off, unbiased; > 0 "
+                 "removes fireflies at the price of bias)",
+                 methods));
   rows.back().widget_max = 100;
   rows.push_back(number_row("gi_min_roughness", group, SettingType::Float, 0, 1, field(&DiReuseParams::min_roughness),
-                            "Pixels smoother than this keep their own GI sample (no reuse on glossy surfaces)", methods));
+                            "Pixels smoother than this keep their own GI sample (no reuse on glossy surfaces)",
+                            methods));
   rows.push_back(number_row("gi_max_age", group, SettingType::Int, 0, 65535, field(&DiReuseParams::max_sample_age),
                             "Temporal reuse drops GI samples older than this many frames (0 = no limit)", methods));
   rows.back().widget_max = 255;
@@ -134,51 +141,61 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
 // The rows of the Frame group: size, samples, estimator, light selection, random numbers.
 void append_frame_rows(std::vector<Setting>& rows) {
   const SettingGroup g = SettingGroup::Frame;
-  rows.push_back(number_row("width", g, SettingType::Int, 1, 16384, [](auto& s) -> auto& { return s.width; },
-                            "Image width in pixels (view: the window's)", kAllMethods));
+  rows.push_back(number_row(
+      "width", g, SettingType::Int, 1, 16384, [](auto& s) -> auto& { return s.width; },
+      "Image width in pixels (view: the window's)", kAllMethods));
   rows.back().scope = kCommandLine | kScript | kConverge;
-  rows.push_back(number_row("height", g, SettingType::Int, 1, 16384, [](auto& s) -> auto& { return s.height; },
-                            "Image height in pixels (view: the window's)", kAllMethods));
+  rows.push_back(number_row(
+      "height", g, SettingType::Int, 1, 16384, [](auto& s) -> auto& { return s.height; },
+      "Image height in pixels (view: the window's)", kAllMethods));
   rows.back().scope = kCommandLine | kScript | kConverge;
-  rows.push_back(number_row("spp", g, SettingType::Int, 1, 1 << 20, [](auto& s) -> auto& { return s.spp; },
-                            "Samples per pixel per frame", kAllMethods));
+  rows.push_back(number_row(
+      "spp", g, SettingType::Int, 1, 1 << 20, [](auto& s) -> auto& { return s.spp; }, "Samples per pixel per frame",
+      kAllMethods));
   rows.back().scope = kEverywhere & ~kConverge;
   rows.back().widget_max = 16;
-  rows.push_back(number_row("seed", g, SettingType::Int, 0, 4294967295.0, [](auto& s) -> auto& { return s.seed; },
-                            "Random seed; same seed, same image, whatever the thread count", kAllMethods));
+  rows.push_back(number_row(
+      "seed", g, SettingType::Int, 0, 4294967295.0, [](auto& s) -> auto& { return s.seed; },
+      "Random seed; same seed, same image, whatever the thread count", kAllMethods));
   rows.back().scope = kCommandLine | kScript | kConverge;
-  rows.push_back(number_row("max_depth", g, SettingType::Int, 1, 1024, [](auto& s) -> auto& { return s.max_depth; },
-                            "Path bounces; 1 = direct light only", kPt | kRestir));
+  rows.push_back(number_row(
+      "max_depth", g, SettingType::Int, 1, 1024, [](auto& s) -> auto& { return s.max_depth; },
+      "Path bounces; 1 = direct light only", kPt | kRestir));
   rows.back().widget_max = 16;
-  rows.push_back(choice_row("method", g, method_names(), [](auto& s) -> auto& { return s.method; },
-                            "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF "
-                            "sample combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling), "
-                            "restir (restir-di plus ReSTIR GI for indirect light, paths up to max_depth)",
-                            kAllMethods));
+  rows.push_back(choice_row(
+      "method", g, method_names(), [](auto& s) -> auto& { return s.method; },
+      "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF "
+      "sample combined by MIS), restir-di (direct light by spatiotemporal reservoir resampling), "
+      "restir (restir-di plus ReSTIR GI for indirect light, paths up to max_depth)",
+      kAllMethods));
   rows.back().scope = kEverywhere & ~kConverge;
-  rows.push_back(choice_row("light_sampler", g, light_sampler_names(), [](auto& s) -> auto& { return s.light_sampler; },
-                            "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's "
-                            "importance; slow oracle)",
-                            kAllMethods));
-  rows.push_back(choice_row("sampler", g, sampler_names(), [](auto& s) -> auto& { return s.sampler; },
-                            "Where paths' random numbers come from: independent (PCG32), sobol (Owen-scrambled Sobol "
-                            "points, stratified within each pixel's samples) or zsobol (one screen-wide Sobol sequence "
-                            "per frame in Morton order)",
-                            kPt | kDirect));
+  rows.push_back(choice_row(
+      "light_sampler", g, light_sampler_names(), [](auto& s) -> auto& { return s.light_sampler; },
+      "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's "
+      "importance; slow oracle)",
+      kAllMethods));
+  rows.push_back(choice_row(
+      "sampler", g, sampler_names(), [](auto& s) -> auto& { return s.sampler; },
+      "Where paths' random numbers come from: independent (PCG32), sobol (Owen-scrambled Sobol "
+      "points, stratified within each pixel's samples) or zsobol (one screen-wide Sobol sequence "
+      "per frame in Morton order)",
+      kPt | kDirect));
   rows.back().scope = kEverywhere & ~kConverge;
-  rows.push_back(flag_row("jitter", g, [](auto& s) -> auto& { return s.jitter; },
-                          "Primary rays through jittered positions (off: pixel centres, no anti-aliasing; isolates the "
-                          "light transport estimator in comparisons)",
-                          kAllMethods));
-  rows.push_back(flag_row("accumulate", g, [](auto& s) -> auto& { return s.accumulate; },
-                          "Accumulate frames while camera and scene stay still (off: each frame alone)",
-                          kAllMethods));
+  rows.push_back(flag_row(
+      "jitter", g, [](auto& s) -> auto& { return s.jitter; },
+      "Primary rays through jittered positions (off: pixel centres, no anti-aliasing; isolates the "
+      "light transport estimator in comparisons)",
+      kAllMethods));
+  rows.push_back(flag_row(
+      "accumulate", g, [](auto& s) -> auto& { return s.accumulate; },
+      "Accumulate frames while camera and scene stay still (off: each frame alone)", kAllMethods));
   rows.back().scope = kCommandLine | kViewer;
   rows.back().refusal = "each frame of a script is rendered alone";
-  rows.push_back(number_row("time_budget_ms", g, SettingType::Float, 0, 1e9, [](auto& s) -> auto& { return s.time_budget_ms; },
-                            "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds "
-                            "(0 = off; overrides spp)",
-                            kAllMethods));
+  rows.push_back(number_row(
+      "time_budget_ms", g, SettingType::Float, 0, 1e9, [](auto& s) -> auto& { return s.time_budget_ms; },
+      "Equal-time mode: per frame, as many samples per pixel as fit in this many milliseconds "
+      "(0 = off; overrides spp)",
+      kAllMethods));
   rows.back().scope = kCommandLine;
   rows.back().refusal = "a frame's samples must not depend on the clock";
 }
@@ -186,44 +203,48 @@ void append_frame_rows(std::vector<Setting>& rows) {
 // The rows of ReSTIR DI's initial candidates.
 void append_di_candidate_rows(std::vector<Setting>& rows) {
   const SettingGroup g = SettingGroup::RestirDi;
-  rows.push_back(number_row("di_candidates", g, SettingType::Int, 0, 1024, [](auto& s) -> auto& { return s.di.light_candidates; },
-                            "Light candidates per pixel (M_l)", kRestirMethods));
+  rows.push_back(number_row(
+      "di_candidates", g, SettingType::Int, 0, 1024, [](auto& s) -> auto& { return s.di.light_candidates; },
+      "Light candidates per pixel (M_l)", kRestirMethods));
   rows.back().widget_max = 64;
-  rows.push_back(number_row("di_bsdf_candidates", g, SettingType::Int, 0, 64,
-                            [](auto& s) -> auto& { return s.di.bsdf_candidates; },
-                            "BSDF-sampled candidates per pixel (M_b; one ray each)", kRestirMethods));
+  rows.push_back(number_row(
+      "di_bsdf_candidates", g, SettingType::Int, 0, 64, [](auto& s) -> auto& { return s.di.bsdf_candidates; },
+      "BSDF-sampled candidates per pixel (M_b; one ray each)", kRestirMethods));
   rows.back().widget_max = 8;
-  rows.push_back(number_row("di_light_tiles", g, SettingType::Int, 0, 4096, [](auto& s) -> auto& { return s.di.light_tiles; },
-                            "Draw light candidates from presampled light tiles: with the power and uniform light samplers "
-                            "this many per frame, shared by 16x16-pixel blocks; with tree and exhaustive each block draws "
-                            "its own for the region its points occupy (0 = off)",
-                            kRestirMethods));
+  rows.push_back(number_row(
+      "di_light_tiles", g, SettingType::Int, 0, 4096, [](auto& s) -> auto& { return s.di.light_tiles; },
+      "Draw light candidates from presampled light tiles: with the power and uniform light samplers "
+      "this many per frame, shared by 16x16-pixel blocks; with tree and exhaustive each block draws "
+      "its own for the region its points occupy (0 = off)",
+      kRestirMethods));
   rows.back().widget_max = 256;
-  rows.push_back(number_row("di_light_tile_size", g, SettingType::Int, 0, 1 << 16,
-                            [](auto& s) -> auto& { return s.di.light_tile_size; },
-                            "Light samples per light tile (0 = 1024 per shared tile, 128 per region tile)", kRestirMethods));
+  rows.push_back(number_row(
+      "di_light_tile_size", g, SettingType::Int, 0, 1 << 16, [](auto& s) -> auto& { return s.di.light_tile_size; },
+      "Light samples per light tile (0 = 1024 per shared tile, 128 per region tile)", kRestirMethods));
   rows.back().widget_max = 4096;
-  rows.push_back(flag_row("di_visibility", g, [](auto& s) -> auto& { return s.di.candidate_visibility; },
-                          "Trace a shadow ray to the chosen candidate before reuse (drops occluded choices; the basic bias "
-                          "correction is then no longer exactly unbiased)",
-                          kRestirMethods));
-  rows.push_back(flag_row("di_mis_visibility", g, [](auto& s) -> auto& { return s.di_reuse.mis_visibility; },
-                          "Include visibility in the reuse MIS weights (unbiased also with di_visibility; basic: (k+1)^2 "
-                          "shadow rays per pixel, pairwise: 2k)",
-                          kRestirMethods));
+  rows.push_back(flag_row(
+      "di_visibility", g, [](auto& s) -> auto& { return s.di.candidate_visibility; },
+      "Trace a shadow ray to the chosen candidate before reuse (drops occluded choices; the basic bias "
+      "correction is then no longer exactly unbiased)",
+      kRestirMethods));
+  rows.push_back(flag_row(
+      "di_mis_visibility", g, [](auto& s) -> auto& { return s.di_reuse.mis_visibility; },
+      "Include visibility in the reuse MIS weights (unbiased also with di_visibility; basic: (k+1)^2 "
+      "shadow rays per pixel, pairwise: 2k)",
+      kRestirMethods));
 }
 
 void append_denoiser_rows(std::vector<Setting>& rows) {
   const SettingGroup g = SettingGroup::Denoiser;
-  rows.push_back(choice_row("denoise", g, denoiser_names(), [](auto& s) -> auto& { return s.denoise.kind; },
-                            "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
-                            "(spatiotemporal variance-guided filtering); both demodulate by albedo",
-                            kAllMethods));
+  rows.push_back(choice_row(
+      "denoise", g, denoiser_names(), [](auto& s) -> auto& { return s.denoise.kind; },
+      "Denoiser that finishes each frame: none, bilateral (cross-bilateral, one frame) or svgf "
+      "(spatiotemporal variance-guided filtering); both demodulate by albedo",
+      kAllMethods));
   rows.back().scope = kEverywhere & ~kConverge;
-  Setting kernel = number_row("svgf_kernel", g, SettingType::Int, 3, 5,
-                              [](auto& s) -> auto& { return s.denoise.svgf.atrous_radius; },
-                              "SVGF's a-trous kernel: 3 (3x3 binomial) or 5 (the paper's 5x5 B3 spline, wider and slower)",
-                              kAllMethods);
+  Setting kernel = number_row(
+      "svgf_kernel", g, SettingType::Int, 3, 5, [](auto& s) -> auto& { return s.denoise.svgf.atrous_radius; },
+      "SVGF's a-trous kernel: 3 (3x3 binomial) or 5 (the paper's 5x5 B3 spline, wider and slower)", kAllMethods);
   kernel.values = {3, 5};
   kernel.get = [](const RenderSettings& s) { return double(2 * s.denoise.svgf.atrous_radius + 1); };
   kernel.set = [](RenderSettings& s, double v) { s.denoise.svgf.atrous_radius = int(v) / 2; };
@@ -286,8 +307,10 @@ const std::vector<Setting>& settings_schema() {
     std::vector<Setting> r;
     append_frame_rows(r);
     append_di_candidate_rows(r);
-    append_reuse_rows(r, "di", SettingGroup::RestirDi, kRestirMethods, [](auto& s) -> auto& { return s.di_reuse; });
-    append_reuse_rows(r, "gi", SettingGroup::RestirGi, kRestir, [](auto& s) -> auto& { return s.gi_reuse; });
+    append_reuse_rows(
+        r, "di", SettingGroup::RestirDi, kRestirMethods, [](auto& s) -> auto& { return s.di_reuse; });
+    append_reuse_rows(
+        r, "gi", SettingGroup::RestirGi, kRestir, [](auto& s) -> auto& { return s.gi_reuse; });
     append_denoiser_rows(r);
     return r;
   }();
@@ -321,7 +344,8 @@ std::string method_list(unsigned methods) {
 std::string settings_markdown() {
   const RenderSettings defaults;
   std::string out;
-  for (SettingGroup group : {SettingGroup::Frame, SettingGroup::RestirDi, SettingGroup::RestirGi, SettingGroup::Denoiser}) {
+  for (SettingGroup group :
+       {SettingGroup::Frame, SettingGroup::RestirDi, SettingGroup::RestirGi, SettingGroup::Denoiser}) {
     out += std::string(out.empty() ? "" : "\n") + "### " + setting_group_name(group) + "\n\n";
     out += "| option | script key | values | default | methods | description |\n";
     out += "|---|---|---|---|---|---|\n";

@@ -50,12 +50,12 @@ struct Setting {
   std::string doc;  // one line, no method prefix (methods says that)
   unsigned methods = kAllMethods;
   unsigned scope = kEverywhere;
-  double min = 0.0, max = 0.0;      // Int, Float: the accepted range
-  double widget_max = 0.0;          // Int, Float: the viewer slider's upper end where it is below max (0: max)
-  std::vector<int> values;          // Int: when not empty, the only values accepted
-  std::vector<std::string> names;   // Choice: the accepted names
-  std::string off_option;           // Flag: the option that sets it false (without "--")
-  std::string refusal;              // not in kScript: why a script may not give it
+  double min = 0.0, max = 0.0;     // Int, Float: the accepted range
+  double widget_max = 0.0;         // Int, Float: the viewer slider's upper end where it is below max (0: max)
+  std::vector<int> values;         // Int: when not empty, the only values accepted
+  std::vector<std::string> names;  // Choice: the accepted names
+  std::string off_option;          // Flag: the option that sets it false (without "--")
+  std::string refusal;             // not in kScript: why a script may not give it
   // The value in `settings`: the number (Int, Float), 0 or 1 (Flag) or the index into `names` (Choice).
   std::function<double(const RenderSettings&)> get;
   std::function<void(RenderSettings&, double)> set;
@@ -63,10 +63,10 @@ struct Setting {
   // viewer greys out its widget otherwise), e.g. the a-trous kernel only with SVGF.
   std::function<bool(const RenderSettings&)> relevant;
 
-  std::string option() const;                             // "--di-neighbours"
-  std::string format(const RenderSettings& s) const;      // the value as the command line writes it
-  std::string range_text() const;                         // "0..31", "3 or 5", "none, basic, pairwise", "flag"
-  bool applies(const RenderSettings& s) const;            // the method is one of `methods`, and relevant
+  std::string option() const;                         // "--di-neighbours"
+  std::string format(const RenderSettings& s) const;  // the value as the command line writes it
+  std::string range_text() const;                     // "0..31", "3 or 5", "none, basic, pairwise", "flag"
+  bool applies(const RenderSettings& s) const;        // the method is one of `methods`, and relevant
 };
 
 // Every row, in the order of the docs (by group).
@@ -74,7 +74,7 @@ const std::vector<Setting>& settings_schema();
 // The row with this script key, or null.
 const Setting* find_setting(const std::string& key);
 const char* setting_group_name(SettingGroup group);  // "Frame", "ReSTIR DI", ...
-std::string method_list(unsigned methods);             // "restir-di, restir"
+std::string method_list(unsigned methods);           // "restir-di, restir"
 // docs/settings.md's generated part: one Markdown table per group (`candela render --help-markdown`).
 std::string settings_markdown();
 

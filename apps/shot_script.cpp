@@ -24,7 +24,8 @@ using nlohmann::json;
 // the rest; every message names the file and the key path ("camera.keys[2].fov").
 class ObjectReader {
  public:
-  ObjectReader(const std::string& file, const json& object, std::string where) : file_(file), object_(object), where_(std::move(where)) {
+  ObjectReader(const std::string& file, const json& object, std::string where)
+      : file_(file), object_(object), where_(std::move(where)) {
     if (!object_.is_object()) fail_at(where_.empty() ? "the script" : where_, "expected an object");
   }
   [[noreturn]] void fail_at(const std::string& place, const std::string& what) const {
@@ -55,7 +56,8 @@ class ObjectReader {
     if (v->is_number_unsigned() && v->get<uint64_t>() > uint64_t(std::numeric_limits<int64_t>::max()))
       fail(key, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + v->dump());
     int64_t x = v->get<int64_t>();
-    if (x < lo || x > hi) fail(key, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + v->dump());
+    if (x < lo || x > hi)
+      fail(key, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + v->dump());
     return x;
   }
   bool flag(const std::string& key, bool fallback) {
@@ -92,7 +94,8 @@ class ObjectReader {
   // Rejects keys nobody read (typos would otherwise be silently ignored).
   void finish() const {
     for (auto it = object_.begin(); it != object_.end(); ++it)
-      if (!seen_.count(it.key())) fail(it.key(), "unknown key (known here: " + join({seen_.begin(), seen_.end()}) + ")");
+      if (!seen_.count(it.key()))
+        fail(it.key(), "unknown key (known here: " + join({seen_.begin(), seen_.end()}) + ")");
   }
   static std::string join(const std::vector<std::string>& names) {
     std::string out;
@@ -122,8 +125,11 @@ const std::map<std::string, Interpolation>& interpolation_names() {
 std::string line_and_column(const std::string& text, size_t offset) {
   size_t line = 1, column = 1;
   for (size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') { ++line; column = 1; }
-    else ++column;
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else
+      ++column;
   }
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
@@ -170,7 +176,8 @@ void read_keys(ObjectReader& parent, std::vector<float>& frames, ReadKey read_ke
 // "%d" or "%0Nd", exactly once, and no other '%'.
 void check_pattern(const ObjectReader& r, const std::string& key, const std::string& pattern, bool exr_only) {
   static const std::regex one(R"(^[^%]*%(0[1-9])?d[^%]*$)");
-  if (!std::regex_match(pattern, one)) r.fail(key, "'" + pattern + "' needs exactly one %d or %0Nd for the frame number");
+  if (!std::regex_match(pattern, one))
+    r.fail(key, "'" + pattern + "' needs exactly one %d or %0Nd for the frame number");
   std::string ext = std::filesystem::path(pattern).extension().string();
   for (char& c : ext) c = char(std::tolower(c));
   if (ext != ".exr" && (exr_only || ext != ".png"))
@@ -252,7 +259,8 @@ void read_instances(ObjectReader& parent, ShotScript& s) {
       if (keys.frames.size() == 1) {
         translation = k.has("translation");
         rotation = k.has("rotation_degrees");
-        if (!translation && !rotation) k.fail_at(k.path("translation"), "a key needs \"translation\" and/or \"rotation_degrees\"");
+        if (!translation && !rotation)
+          k.fail_at(k.path("translation"), "a key needs \"translation\" and/or \"rotation_degrees\"");
       }
       if (k.has("translation") != translation || k.has("rotation_degrees") != rotation)
         k.fail_at(k.path("translation"), "every key must give the same channels as the first one");
@@ -287,10 +295,13 @@ void read_output(ObjectReader& parent, ShotScript& s) {
   ObjectReader r(parent.file(), *out, "output");
   const json* images = r.get("images");
   if (images) {
-    if (images->is_string()) s.output.images.push_back(images->get<std::string>());
-    else if (images->is_array() && std::all_of(images->begin(), images->end(), [](const json& x) { return x.is_string(); }))
+    if (images->is_string())
+      s.output.images.push_back(images->get<std::string>());
+    else if (images->is_array() &&
+             std::all_of(images->begin(), images->end(), [](const json& x) { return x.is_string(); }))
       s.output.images = images->get<std::vector<std::string>>();
-    else r.fail("images", "expected a path pattern or an array of them");
+    else
+      r.fail("images", "expected a path pattern or an array of them");
     for (const std::string& p : s.output.images) check_pattern(r, "images", p, false);
   }
   for (const char* aov : {"albedo", "normal", "depth", "motion"}) {
@@ -309,8 +320,8 @@ void read_output(ObjectReader& parent, ShotScript& s) {
 
 bool ShotScript::keeps_history() const {
   bool restir = settings.method == Method::RestirDi || settings.method == Method::Restir;
-  return (restir && (settings.di_reuse.temporal || settings.gi_reuse.temporal)) || settings.denoise.kind == DenoiserKind::Svgf ||
-         output.aovs.count("motion");
+  return (restir && (settings.di_reuse.temporal || settings.gi_reuse.temporal)) ||
+         settings.denoise.kind == DenoiserKind::Svgf || output.aovs.count("motion");
 }
 
 ShotScript read_shot_script(const std::string& path) {
@@ -345,14 +356,16 @@ void apply_shot_animation(const ShotScript& script, Scene& scene) {
     std::vector<int> targets;
     if (keys.index >= 0) {
       if (size_t(keys.index) >= scene.instances.size())
-        throw InputError(script.file + ": " + keys.where + ".instance: " + std::to_string(keys.index) + " does not exist (" +
-                         script.scene + " has " + std::to_string(scene.instances.size()) + " instances)");
+        throw InputError(script.file + ": " + keys.where + ".instance: " + std::to_string(keys.index) +
+                         " does not exist (" + script.scene + " has " + std::to_string(scene.instances.size()) +
+                         " instances)");
       targets.push_back(keys.index);
     } else {
       for (size_t i = 0; i < scene.instances.size(); ++i)
         if (scene.instances[i].name == keys.name) targets.push_back(int(i));
       if (targets.empty())
-        throw InputError(script.file + ": " + keys.where + ".name: no instance of " + script.scene + " is named '" + keys.name + "'");
+        throw InputError(script.file + ": " + keys.where + ".name: no instance of " + script.scene + " is named '" +
+                         keys.name + "'");
     }
     for (int target : targets) {
       Instance& inst = scene.instances[size_t(target)];
@@ -371,7 +384,8 @@ void apply_shot_animation(const ShotScript& script, Scene& scene) {
       };
       if (!keys.translation.empty()) a.translation = track(keys.translation);
       if (!keys.rotation_degrees.empty()) a.euler_degrees = track(keys.rotation_degrees);
-      std::erase_if(scene.instance_animations, [&](const InstanceAnimation& other) { return other.instance == target; });
+      std::erase_if(scene.instance_animations,
+                    [&](const InstanceAnimation& other) { return other.instance == target; });
       scene.instance_animations.push_back(a);
       inst.animated = true;
     }
@@ -406,7 +420,8 @@ void apply_shot_animation(const ShotScript& script, Scene& scene) {
     } else {
       for (size_t i = 0; i < scene.materials.size(); ++i)
         if (scene.materials[i].name == keys.material_name) materials.push_back(int(i));
-      if (materials.empty()) missing("material_name", "no material of " + script.scene + " is named '" + keys.material_name + "'");
+      if (materials.empty())
+        missing("material_name", "no material of " + script.scene + " is named '" + keys.material_name + "'");
     }
     for (int m : materials) {
       if (!scene.materials[size_t(m)].emissive())

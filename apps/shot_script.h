@@ -16,9 +16,9 @@ namespace candela {
 
 // Keyed by frame number (may be fractional); keys in increasing frame order.
 struct InstanceKeys {
-  std::string where;            // "instances[2]", for messages
-  int index = -1;               // "instance": index into Scene::instances, or
-  std::string name;             // "name": the instances whose Instance::name equals it
+  std::string where;  // "instances[2]", for messages
+  int index = -1;     // "instance": index into Scene::instances, or
+  std::string name;   // "name": the instances whose Instance::name equals it
   Interpolation interpolation = Interpolation::Linear;
   std::vector<float> frames;
   std::vector<vec3> translation;       // offsets added to the instance's position (empty: not animated)
@@ -26,29 +26,29 @@ struct InstanceKeys {
 };
 
 struct PowerKeys {
-  std::string where;            // "light_power[0]"
-  int punctual = -1;            // "punctual": index into Scene::punctual_lights, or
-  int material = -1;            // "material": index into Scene::materials, or
-  std::string material_name;    // "material_name": the materials whose name equals it
+  std::string where;          // "light_power[0]"
+  int punctual = -1;          // "punctual": index into Scene::punctual_lights, or
+  int material = -1;          // "material": index into Scene::materials, or
+  std::string material_name;  // "material_name": the materials whose name equals it
   Interpolation interpolation = Interpolation::Linear;
   std::vector<float> frames;
-  std::vector<float> scale;     // power scale factors, > 0
+  std::vector<float> scale;  // power scale factors, > 0
 };
 
 // Image outputs: patterns with one %d or %0Nd for the frame number.
 struct ShotOutput {
-  std::vector<std::string> images;           // .exr (linear) and/or .png (tonemapped)
-  std::map<std::string, std::string> aovs;   // "albedo", "normal", "depth", "motion" -> .exr pattern
-  std::string stats;                         // base path: writes STATS.csv and STATS.json ("" = none)
-  float exposure = 1.0f;                     // PNG only
+  std::vector<std::string> images;          // .exr (linear) and/or .png (tonemapped)
+  std::map<std::string, std::string> aovs;  // "albedo", "normal", "depth", "motion" -> .exr pattern
+  std::string stats;                        // base path: writes STATS.csv and STATS.json ("" = none)
+  float exposure = 1.0f;                    // PNG only
 };
 
 struct ShotScript {
-  std::string file;             // the script's path, as given
-  std::string scene;            // builtin:NAME or a .gltf/.glb path (relative to the current directory)
-  int lights = 1024;            // builtin:manylights
-  float environment = -1.0f;    // < 0: the default rule (apply_default_environment), as `render`
-  RenderSettings settings;      // accumulate is always off: every frame stands alone
+  std::string file;           // the script's path, as given
+  std::string scene;          // builtin:NAME or a .gltf/.glb path (relative to the current directory)
+  int lights = 1024;          // builtin:manylights
+  float environment = -1.0f;  // < 0: the default rule (apply_default_environment), as `render`
+  RenderSettings settings;    // accumulate is always off: every frame stands alone
   int first_frame = 0, frames = 1;
   float fps = 30.0f;            // scene time of frame f is f / fps seconds
   int warmup = 8;               // frames rendered unwritten before a shard or a resumed run (history methods)

@@ -13,8 +13,12 @@ nlohmann::json stats_to_json(const std::vector<FrameStats>& frames) {
     nlohmann::json stages = nlohmann::json::array();
     for (const StageStats& s : f.stages)
       stages.push_back({{"name", s.name}, {"ms", s.ms}, {"rays", s.rays}, {"non_finite", s.non_finite}});
-    out.push_back({{"frame", f.frame}, {"spp", f.spp}, {"total_ms", f.total_ms}, {"rays", f.rays()},
-                   {"non_finite", f.non_finite()}, {"stages", stages}});
+    out.push_back({{"frame", f.frame},
+                   {"spp", f.spp},
+                   {"total_ms", f.total_ms},
+                   {"rays", f.rays()},
+                   {"non_finite", f.non_finite()},
+                   {"stages", stages}});
   }
   return out;
 }

@@ -21,8 +21,15 @@ struct AlbedoKernel {
   float inv_sigma_albedo;
 
   AlbedoKernel(const Guides& guides, const ColorPlanes& in, ColorPlanes& out, float inv_sigma_albedo)
-      : ar(guides.albedo.r.data()), ag(guides.albedo.g.data()), ab(guides.albedo.b.data()),
-        r(in.r.data()), g(in.g.data()), b(in.b.data()), in(in), out(out), filtered(guides.filtered.data()),
+      : ar(guides.albedo.r.data()),
+        ag(guides.albedo.g.data()),
+        ab(guides.albedo.b.data()),
+        r(in.r.data()),
+        g(in.g.data()),
+        b(in.b.data()),
+        in(in),
+        out(out),
+        filtered(guides.filtered.data()),
         inv_sigma_albedo(inv_sigma_albedo) {}
 
   struct Chunk {
@@ -62,8 +69,8 @@ struct AlbedoKernel {
 
 }  // namespace
 
-void cross_bilateral(const Guides& guides, const BilateralParams& params, const ColorPlanes& in,
-                     ColorPlanes& scratch, ColorPlanes& out) {
+void cross_bilateral(const Guides& guides, const BilateralParams& params, const ColorPlanes& in, ColorPlanes& scratch,
+                     ColorPlanes& out) {
   CHECK(params.radius >= 0 && params.sigma_spatial > 0.0f && params.sigma_albedo > 0.0f);
   CHECK(in.width == guides.width && in.height == guides.height);
   for (ColorPlanes* p : {&scratch, &out})

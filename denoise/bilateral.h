@@ -13,8 +13,8 @@ namespace candela {
 // Stage "bilateral": reads the guides and `in`; writes `out` (`scratch` holds the horizontal pass).
 // Each pixel: 2 (2r + 1) taps, each reading 7 guide floats and 3 colour floats. Pixels not filtered
 // (Guides::filtered) keep their input.
-void cross_bilateral(const Guides& guides, const BilateralParams& params, const ColorPlanes& in,
-                     ColorPlanes& scratch, ColorPlanes& out);
+void cross_bilateral(const Guides& guides, const BilateralParams& params, const ColorPlanes& in, ColorPlanes& scratch,
+                     ColorPlanes& out);
 
 // The whole frame: demodulate, filter, remodulate. Keeps its planes between frames (no history).
 class BilateralDenoiser {

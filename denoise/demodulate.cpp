@@ -6,13 +6,15 @@ namespace candela {
 
 static vec3 albedo_floor(const vec3& albedo) { return glm::max(albedo, vec3(kMinAlbedo)); }
 
-void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, ColorPlanes& illumination, Counter& non_finite) {
+void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, ColorPlanes& illumination,
+                Counter& non_finite) {
   CHECK(noisy.width == g.width && noisy.height == g.height && guides.width == g.width && guides.height == g.height);
   if (illumination.width != g.width || illumination.height != g.height) illumination.resize(g.width, g.height);
   for_each_row(g.height, [&](int y) {
     for (size_t i = size_t(y) * g.width, end = i + g.width; i < end; ++i) {
       vec3 e = guides.filtered[i] ? (noisy.pixels[i] - g.emission[i]) / albedo_floor(g.albedo[i])
-                                  : g.hit(i) ? noisy.pixels[i] : vec3(0.0f);
+               : g.hit(i)         ? noisy.pixels[i]
+                                  : vec3(0.0f);
       bool finite = is_finite(e);
       illumination.set(i, finite ? e : vec3(0.0f));
       if (!finite) non_finite.add(1);
@@ -26,7 +28,8 @@ Image remodulate(const ColorPlanes& filtered, const GBuffer& g, const Guides& gu
   for_each_row(g.height, [&](int y) {
     for (size_t i = size_t(y) * g.width, end = i + g.width; i < end; ++i)
       out.pixels[i] = guides.filtered[i] ? filtered.at(i) * albedo_floor(g.albedo[i]) + g.emission[i]
-                      : g.hit(i) ? filtered.at(i) : noisy.pixels[i];
+                      : g.hit(i)         ? filtered.at(i)
+                                         : noisy.pixels[i];
   });
   return out;
 }

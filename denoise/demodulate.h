@@ -18,7 +18,8 @@ inline constexpr float kMinAlbedo = 0.01f;
 // guides' filtered mask; writes `illumination` = (L - Le) / max(albedo, kMinAlbedo) at filtered pixels,
 // the radiance L itself at the other hits (emitter borders, which only SVGF's temporal accumulation
 // touches), 0 elsewhere (non-finite radiance becomes 0 and is counted in `non_finite`). One pass, O(pixels).
-void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, ColorPlanes& illumination, Counter& non_finite);
+void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, ColorPlanes& illumination,
+                Counter& non_finite);
 
 // Stage "denoise_remodulate": reads the filtered illumination, the G-buffer, the guides' filtered mask
 // and the noisy radiance; returns filtered * max(albedo, kMinAlbedo) + Le at filtered pixels, `filtered`

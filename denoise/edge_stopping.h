@@ -72,8 +72,7 @@ struct Stencil {
 // float range(const Chunk&, k, q) is its term of the weight's exponent; gather(Chunk&, k, q, weight)
 // accumulates tap q into lane k; store(const Chunk&, i0, lanes) writes the result.
 template <bool kBorder, class Kernel>
-void filter_chunk(const Guides& g, const EdgeStoppingParams& e, const Stencil& stencil, int y, int x0,
-                  Kernel& kernel) {
+void filter_chunk(const Guides& g, const EdgeStoppingParams& e, const Stencil& stencil, int y, int x0, Kernel& kernel) {
   const int w = g.width, h = g.height;
   const size_t i0 = size_t(y) * size_t(w) + size_t(x0);
   const int lanes = std::min(kLanes, w - x0);
@@ -91,7 +90,8 @@ void filter_chunk(const Guides& g, const EdgeStoppingParams& e, const Stencil& s
   for (int r = 0; r < stencil.rings; ++r)
     for (int k = 0; k < kLanes; ++k) {
       size_t i = i0 + size_t(std::min(k, lanes - 1));
-      inv_d[r][k] = 1.0f / (e.sigma_depth * g.depth_slope[i] * (float(r) * stencil.spacing + 1.0f) + e.depth_epsilon * cz[k]);
+      inv_d[r][k] =
+          1.0f / (e.sigma_depth * g.depth_slope[i] * (float(r) * stencil.spacing + 1.0f) + e.depth_epsilon * cz[k]);
     }
   const float* depth = g.depth.data();
   const float *nx = g.nx.data(), *ny = g.ny.data(), *nz = g.nz.data();
@@ -121,8 +121,10 @@ void filter_image(const Guides& g, const EdgeStoppingParams& e, const Stencil& s
   const int reach = stencil.reach;
   for_each_row(g.height, [&](int y) {
     for (int x0 = 0; x0 < g.width; x0 += kLanes) {
-      if (x0 >= reach && x0 + kLanes + reach <= g.width) filter_chunk<false>(g, e, stencil, y, x0, kernel);
-      else filter_chunk<true>(g, e, stencil, y, x0, kernel);
+      if (x0 >= reach && x0 + kLanes + reach <= g.width)
+        filter_chunk<false>(g, e, stencil, y, x0, kernel);
+      else
+        filter_chunk<true>(g, e, stencil, y, x0, kernel);
     }
   });
 }

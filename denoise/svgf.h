@@ -26,9 +26,9 @@ class Svgf {
   Guides guides_;
   ColorPlanes illumination_;
   SvgfHistory history_;
-  SvgfMoments moments_;         // this frame's integrated moments (become the history's)
-  AtrousPlanes atrous_[2];      // ping-pong; atrous_[0] starts with the temporal output
-  std::vector<float> scale_;    // a-trous scratch: luminance edge-stopping scale
+  SvgfMoments moments_;       // this frame's integrated moments (become the history's)
+  AtrousPlanes atrous_[2];    // ping-pong; atrous_[0] starts with the temporal output
+  std::vector<float> scale_;  // a-trous scratch: luminance edge-stopping scale
 };
 
 }  // namespace candela

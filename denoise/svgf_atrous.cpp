@@ -42,8 +42,15 @@ struct AtrousKernel {
   AtrousPlanes& out;
 
   AtrousKernel(const Guides& guides, const AtrousPlanes& in, const std::vector<float>& scale, AtrousPlanes& out)
-      : r(in.color.r.data()), g(in.color.g.data()), b(in.color.b.data()), l(in.luminance.data()),
-        var(in.variance.data()), scale(scale.data()), filtered(guides.filtered.data()), in(in), out(out) {}
+      : r(in.color.r.data()),
+        g(in.color.g.data()),
+        b(in.color.b.data()),
+        l(in.luminance.data()),
+        var(in.variance.data()),
+        scale(scale.data()),
+        filtered(guides.filtered.data()),
+        in(in),
+        out(out) {}
 
   struct Chunk {
     float l[kLanes], s[kLanes];

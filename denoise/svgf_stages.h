@@ -42,8 +42,9 @@ struct SvgfHistory {
 // sample's previous position; if none, the history restarts. Colour and moments are then blended with
 // alpha = max(alpha, 1 / length). Hits that are not filtered (emitter borders) accumulate their radiance
 // the same way, from history that was not filtered either. O(pixels), up to 13 history reads per pixel.
-void svgf_temporal(const GBuffer& current, const GBuffer& previous, const Guides& guides, const ColorPlanes& illumination,
-                   const SvgfHistory& history, const SvgfParams& params, AtrousPlanes& integrated, SvgfMoments& moments);
+void svgf_temporal(const GBuffer& current, const GBuffer& previous, const Guides& guides,
+                   const ColorPlanes& illumination, const SvgfHistory& history, const SvgfParams& params,
+                   AtrousPlanes& integrated, SvgfMoments& moments);
 
 // Stage "svgf_variance" (sec. 4.2): reads the guides and the integrated moments; writes `variance` =
 // mu2 - mu1^2 where the history holds at least params.spatial_variance_below frames, else the same from

@@ -75,8 +75,9 @@ struct Reprojector {
 
 }  // namespace
 
-void svgf_temporal(const GBuffer& current, const GBuffer& previous, const Guides& guides, const ColorPlanes& illumination,
-                   const SvgfHistory& history, const SvgfParams& params, AtrousPlanes& integrated, SvgfMoments& moments) {
+void svgf_temporal(const GBuffer& current, const GBuffer& previous, const Guides& guides,
+                   const ColorPlanes& illumination, const SvgfHistory& history, const SvgfParams& params,
+                   AtrousPlanes& integrated, SvgfMoments& moments) {
   const int w = current.width, h = current.height;
   CHECK(illumination.width == w && illumination.height == h && guides.width == w && guides.height == h);
   bool reproject = history.valid && previous.width == w && previous.height == h && history.color.width == w &&

@@ -54,7 +54,12 @@ void svgf_variance(const Guides& guides, const SvgfMoments& moments, const SvgfP
                    std::vector<float>& variance) {
   CHECK(moments.length.size() == guides.size() && variance.size() == guides.size());
   static const Stencil stencil(3, 3, 1, [](int, int) { return 1.0f; });
-  MomentsKernel kernel{moments.moment1.data(), moments.moment2.data(), moments, guides.filtered, float(params.spatial_variance_below), variance};
+  MomentsKernel kernel{moments.moment1.data(),
+                       moments.moment2.data(),
+                       moments,
+                       guides.filtered,
+                       float(params.spatial_variance_below),
+                       variance};
   filter_image(guides, params.edges, stencil, kernel);
 }
 

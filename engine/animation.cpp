@@ -28,8 +28,10 @@ T catmull_rom(const Track<T>& track, size_t i, float u) {
 
 template <class T>
 T mix_values(const T& a, const T& b, float u) {
-  if constexpr (std::is_same_v<T, quat>) return glm::slerp(a, glm::dot(a, b) < 0.0f ? -b : b, u);
-  else return a + (b - a) * u;
+  if constexpr (std::is_same_v<T, quat>)
+    return glm::slerp(a, glm::dot(a, b) < 0.0f ? -b : b, u);
+  else
+    return a + (b - a) * u;
 }
 
 }  // namespace

@@ -47,8 +47,8 @@ struct InstanceAnimation {
 struct PowerAnimation {
   enum class Target : uint8_t { Punctual, Material };
   Target target = Target::Punctual;
-  int index = 0;       // into Scene::punctual_lights or Scene::materials
-  vec3 base{0.0f};     // intensity or emission at scale 1
+  int index = 0;    // into Scene::punctual_lights or Scene::materials
+  vec3 base{0.0f};  // intensity or emission at scale 1
   Track<float> scale;
 };
 

@@ -15,8 +15,8 @@
 //            scattering, albedo E_d) does not reflect: Kulla & Conty's albedo scaling in its reciprocal form
 //            (the same layering OpenPBR and Autodesk Standard Surface specify).
 // A white dielectric therefore reflects all incident energy at every angle, a white metal all of it too
-// (up to the tables' interpolation: 0.1%, 0.2% at grazing angles), and s = 0 leaves exactly Lambert. Albedo tables: ggx_albedo.h.
-// Directions are world-space unit vectors pointing away from the surface; eval returns f without the
+// (up to the tables' interpolation: 0.1%, 0.2% at grazing angles), and s = 0 leaves exactly Lambert. Albedo tables:
+// ggx_albedo.h. Directions are world-space unit vectors pointing away from the surface; eval returns f without the
 // cosine. Reflection only (no transmission).
 #include "engine/ggx_albedo.h"
 #include "engine/microfacet.h"
@@ -26,18 +26,18 @@ namespace candela {
 
 struct BsdfSample {
   vec3 wi{0.0f};
-  vec3 f{0.0f};     // BSDF value for (wo, wi)
-  float pdf = 0.0f; // solid-angle density of wi under sample() (both lobes)
+  vec3 f{0.0f};      // BSDF value for (wo, wi)
+  float pdf = 0.0f;  // solid-angle density of wi under sample() (both lobes)
 };
 
 // What Bsdf::eval and Bsdf::pdf compute from wo alone, for kernels that evaluate one wo against many wi in
 // SIMD lanes (restir/target_lanes.cpp). The expressions are eval's and pdf's, so such a kernel can give
 // their bits (tests/test_target_lanes.cpp checks that it does).
 struct BsdfWoTerms {
-  vec3 n{0.0f};                 // shading normal
-  float cos_o = 0.0f;           // n.wo (eval and pdf are 0 unless positive)
+  vec3 n{0.0f};        // shading normal
+  float cos_o = 0.0f;  // n.wo (eval and pdf are 0 unless positive)
   float alpha = 1.0f;
-  float s_o = 1.0f;             // sqrt(cos_o^2 (1 - alpha^2) + alpha^2)
+  float s_o = 1.0f;  // sqrt(cos_o^2 (1 - alpha^2) + alpha^2)
   vec3 f0{0.0f};
   float f90 = 0.0f;
   vec3 ms{0.0f};                // f_ms = ms (ms_o (1 - a(mu_i)))
@@ -45,10 +45,10 @@ struct BsdfWoTerms {
   vec3 base_o{0.0f};            // f_base = base_o max(1 - E_d(mu_i), 0)
   vec3 d_f0{0.0f}, d_ms{0.0f};  // the dielectric layer, for E_d(mu_i)
   float d_f90 = 0.0f;
-  size_t albedo_row = 0;        // GgxAlbedoRow::row_offset
-  float albedo_weight = 0.0f;   // GgxAlbedoRow::row_weight
-  float g1_o = 0.0f;            // G1(wo), for pdf
-  float p_specular = 0.0f;      // probability of the single-scattering lobe at wo, for pdf
+  size_t albedo_row = 0;       // GgxAlbedoRow::row_offset
+  float albedo_weight = 0.0f;  // GgxAlbedoRow::row_weight
+  float g1_o = 0.0f;           // G1(wo), for pdf
+  float p_specular = 0.0f;     // probability of the single-scattering lobe at wo, for pdf
 };
 
 class Bsdf {
@@ -75,13 +75,13 @@ class Bsdf {
   float specular_probability(const GgxAlbedo& e_o) const;
 
   Frame frame_{vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1)};
-  vec3 f0_{0.04f};           // F0 of the single-scattering lobe
-  float f90_ = 1.0f;         // F90 of it
-  vec3 ms_{0.0f};            // F_ms / (pi (1 - a_avg)): f_ms = ms_ (1 - a(mu_o)) (1 - a(mu_i))
-  vec3 base_scale_{0.0f};    // (1 - metallic) base / (pi (1 - E_d_avg)):
-                             // f_base = base_scale_ (1 - E_d(mu_o)) (1 - E_d(mu_i))
-  struct {                   // luminances for the lobe choice, with base = (1 - metallic) base colour:
-    float f0, ms, base;      //   of f0_, F_ms, base,
+  vec3 f0_{0.04f};               // F0 of the single-scattering lobe
+  float f90_ = 1.0f;             // F90 of it
+  vec3 ms_{0.0f};                // F_ms / (pi (1 - a_avg)): f_ms = ms_ (1 - a(mu_o)) (1 - a(mu_i))
+  vec3 base_scale_{0.0f};        // (1 - metallic) base / (pi (1 - E_d_avg)):
+                                 // f_base = base_scale_ (1 - E_d(mu_o)) (1 - E_d(mu_i))
+  struct {                       // luminances for the lobe choice, with base = (1 - metallic) base colour:
+    float f0, ms, base;          //   of f0_, F_ms, base,
     float base_d_f0, base_d_ms;  // base d_f0_ and base d_ms_
   } lum_{};
   vec3 d_f0_{0.0f}, d_ms_{0.0f};  // the dielectric layer's s F0_d and its F_ms

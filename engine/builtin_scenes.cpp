@@ -28,7 +28,10 @@ class SceneBuilder {
     Mesh& m = mesh(mat);
     uint32_t b = uint32_t(m.positions.size());
     vec3 n = glm::normalize(glm::cross(u, v));
-    for (vec3 p : {c - u - v, c + u - v, c + u + v, c - u + v}) { m.positions.push_back(p); m.normals.push_back(n); }
+    for (vec3 p : {c - u - v, c + u - v, c + u + v, c - u + v}) {
+      m.positions.push_back(p);
+      m.normals.push_back(n);
+    }
     m.triangles.push_back(uvec3(b, b + 1, b + 2));
     m.triangles.push_back(uvec3(b, b + 2, b + 3));
   }
@@ -72,11 +75,11 @@ Scene make_cornell_scene() {
   SceneBuilder b;
   int white = b.material(vec3(0.73f)), red = b.material(vec3(0.65f, 0.05f, 0.05f)),
       green = b.material(vec3(0.12f, 0.45f, 0.15f)), light = b.material(vec3(0.78f), 0.8f, vec3(17.0f, 12.0f, 4.0f));
-  b.quad(white, vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 0, 1), vec3(0, 1, 0));     // floor
-  b.quad(white, vec3(0, 2, 0), vec3(1, 0, 0), vec3(0, 0, 1), vec3(0, -1, 0));    // ceiling
-  b.quad(white, vec3(0, 1, -1), vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1));    // back wall
-  b.quad(red, vec3(-1, 1, 0), vec3(0, 0, 1), vec3(0, 1, 0), vec3(1, 0, 0));      // left wall
-  b.quad(green, vec3(1, 1, 0), vec3(0, 0, 1), vec3(0, 1, 0), vec3(-1, 0, 0));    // right wall
+  b.quad(white, vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 0, 1), vec3(0, 1, 0));   // floor
+  b.quad(white, vec3(0, 2, 0), vec3(1, 0, 0), vec3(0, 0, 1), vec3(0, -1, 0));  // ceiling
+  b.quad(white, vec3(0, 1, -1), vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1));  // back wall
+  b.quad(red, vec3(-1, 1, 0), vec3(0, 0, 1), vec3(0, 1, 0), vec3(1, 0, 0));    // left wall
+  b.quad(green, vec3(1, 1, 0), vec3(0, 0, 1), vec3(0, 1, 0), vec3(-1, 0, 0));  // right wall
   b.quad(light, vec3(0, 1.995f, 0), vec3(0.25f, 0, 0), vec3(0, 0, 0.2f), vec3(0, -1, 0));
   b.box(white, vec3(0.33f, 0.3f, 0.3f), vec3(0.3f, 0.3f, 0.3f), -0.3f, true);
   b.box(white, vec3(-0.33f, 0.6f, -0.3f), vec3(0.3f, 0.6f, 0.3f), 0.3f, true);
@@ -92,7 +95,8 @@ Scene make_manylights_scene(int light_count, uint64_t seed) {
   SceneBuilder b;
   const float half = 10.0f, height = 5.0f;
   int wall = b.material(vec3(0.7f)), floor = b.material(vec3(0.5f, 0.45f, 0.4f), 0.5f),
-      block = b.material(vec3(0.6f, 0.62f, 0.7f), 0.6f), metal = b.material(vec3(0.9f, 0.8f, 0.6f), 0.3f, vec3(0.0f), 1.0f);
+      block = b.material(vec3(0.6f, 0.62f, 0.7f), 0.6f),
+      metal = b.material(vec3(0.9f, 0.8f, 0.6f), 0.3f, vec3(0.0f), 1.0f);
   b.quad(floor, vec3(0, 0, 0), vec3(half, 0, 0), vec3(0, 0, half), vec3(0, 1, 0));
   b.quad(wall, vec3(0, height, 0), vec3(half, 0, 0), vec3(0, 0, half), vec3(0, -1, 0));
   b.quad(wall, vec3(0, height / 2, -half), vec3(half, 0, 0), vec3(0, height / 2, 0), vec3(0, 0, 1));
@@ -159,7 +163,8 @@ Scene make_city_scene(uint64_t seed) {
         vec3 along = vec3(n.z, 0, -n.x);
         for (int f = 0; f < floors; ++f) {
           for (int k = 0; k < cols; ++k) {
-            vec3 wc = c + n * (bw + 0.02f) + along * (-bw + (k + 0.5f) * (2.0f * bw / cols)) + vec3(0, 0.15f + 1.6f + f * 3.0f, 0);
+            vec3 wc = c + n * (bw + 0.02f) + along * (-bw + (k + 0.5f) * (2.0f * bw / cols)) +
+                      vec3(0, 0.15f + 1.6f + f * 3.0f, 0);
             bool lit = rng.next_float() < 0.7f;
             int mat = lit ? window_lights[rng.next_u32() % window_lights.size()] : dark_window;
             b.quad(mat, wc, along * 0.3f, vec3(0, 0.8f, 0), n);
@@ -188,7 +193,10 @@ Scene make_city_scene(uint64_t seed) {
   Scene car_scene = car.finish();
   int material_base = int(s.materials.size()), mesh_base = int(s.meshes.size());
   for (Material& m : car_scene.materials) s.materials.push_back(m);
-  for (Mesh& m : car_scene.meshes) { m.material += material_base; s.meshes.push_back(std::move(m)); }
+  for (Mesh& m : car_scene.meshes) {
+    m.material += material_base;
+    s.meshes.push_back(std::move(m));
+  }
   const int cars = 48;
   for (int k = 0; k < cars; ++k) {
     // Streets run between blocks along x or z; cars drive in the right-hand lane of a random street.
@@ -205,7 +213,8 @@ Scene make_city_scene(uint64_t seed) {
     float speed = 8.0f + rng.next_float() * 6.0f;
     for (int m = 0; m < int(car_scene.meshes.size()); ++m) {
       s.instances.push_back(Instance{mesh_base + m, start_transform, start_transform, true});
-      s.motions.push_back(InstanceMotion{int(s.instances.size() - 1), start_transform, heading * speed, 2.0f * extent, phase});
+      s.motions.push_back(
+          InstanceMotion{int(s.instances.size() - 1), start_transform, heading * speed, 2.0f * extent, phase});
     }
     // Two headlight spots attached to the car body's instance.
     int body_instance = int(s.instances.size() - car_scene.meshes.size());
@@ -238,8 +247,9 @@ Scene make_furnace_scene(float albedo, float emission) {
   for (vec3 p : {vec3(-1, t, 0), vec3(1, t, 0), vec3(-1, -t, 0), vec3(1, -t, 0), vec3(0, -1, t), vec3(0, 1, t),
                  vec3(0, -1, -t), vec3(0, 1, -t), vec3(t, 0, -1), vec3(t, 0, 1), vec3(-t, 0, -1), vec3(-t, 0, 1)})
     v.push_back(glm::normalize(p));
-  f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-       {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  f = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+       {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+       {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int level = 0; level < 4; ++level) {
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoint;
     auto mid = [&](uint32_t a, uint32_t c) {
@@ -279,7 +289,8 @@ Scene make_builtin_scene(const std::string& name, const BuiltinOptions& options)
   if (name == "cornell") return make_cornell_scene();
   if (name == "manylights") return make_manylights_scene(options.light_count, options.seed);
   if (name == "city") return make_city_scene(options.seed);
-  throw InputError("unknown built-in scene 'builtin:" + name + "' (known: builtin:cornell, builtin:manylights, builtin:city)");
+  throw InputError("unknown built-in scene 'builtin:" + name +
+                   "' (known: builtin:cornell, builtin:manylights, builtin:city)");
 }
 
 }  // namespace candela

@@ -4,7 +4,8 @@
 
 namespace candela {
 
-Camera::Camera(const CameraDesc& desc, int width, int height) : position_(desc.position), width_(width), height_(height) {
+Camera::Camera(const CameraDesc& desc, int width, int height)
+    : position_(desc.position), width_(width), height_(height) {
   CHECK(width > 0 && height > 0);
   vec3 f = desc.target - desc.position;
   forward_ = glm::length(f) > 0.0f ? glm::normalize(f) : vec3(0.0f, 0.0f, -1.0f);

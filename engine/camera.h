@@ -13,7 +13,8 @@ class Camera {
 
   // Direction (unit) through film position (x, y) in pixels, (0, 0) the top-left corner.
   vec3 direction(float x, float y) const {
-    vec3 d = forward_ + right_ * ((2.0f * x / width_ - 1.0f) * tan_half_x_) - up_ * ((2.0f * y / height_ - 1.0f) * tan_half_y_);
+    vec3 d = forward_ + right_ * ((2.0f * x / width_ - 1.0f) * tan_half_x_) -
+             up_ * ((2.0f * y / height_ - 1.0f) * tan_half_y_);
     return glm::normalize(d);
   }
   const vec3& position() const { return position_; }

@@ -26,10 +26,14 @@ inline constexpr int kBadInputExit = 2;
 
 }  // namespace candela
 
-#define CHECK(cond) \
-  do { if (!(cond)) ::candela::check_failed(#cond, __FILE__, __LINE__); } while (0)
+#define CHECK(cond)                                                  \
+  do {                                                               \
+    if (!(cond)) ::candela::check_failed(#cond, __FILE__, __LINE__); \
+  } while (0)
 #ifdef NDEBUG
-#define DCHECK(cond) do { } while (0)
+#define DCHECK(cond) \
+  do {               \
+  } while (0)
 #else
 #define DCHECK(cond) CHECK(cond)
 #endif

@@ -52,7 +52,8 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   g.instance[i] = hit.instance;
   g.prim[i] = hit.prim;
   vec3 prev_position = scene.instances[hit.instance].animated
-                           ? transform_point(prev_from_current[hit.instance], sp.position) : sp.position;
+                           ? transform_point(prev_from_current[hit.instance], sp.position)
+                           : sp.position;
   // The hit lies on the ray through `film`, so `film` is its projection in this frame.
   vec2 prev_film;
   g.motion[i] = prev_camera.project(prev_position, prev_film) ? prev_film - film : vec2(0.0f);
@@ -83,7 +84,10 @@ void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camer
         int first = count;
         for (int lane = 0; lane < 16; ++lane) {
           int x = bx + (lane & 3), y = by + (lane >> 2);
-          if (x >= tile.x1 || y >= tile.y1) { packet.set_inactive(lane); continue; }
+          if (x >= tile.x1 || y >= tile.y1) {
+            packet.set_inactive(lane);
+            continue;
+          }
           uint32_t i = uint32_t(y) * uint32_t(w) + uint32_t(x);
           vec2 j(0.5f);
           if (params.jitter) {

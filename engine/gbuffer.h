@@ -16,21 +16,22 @@ struct GBuffer {
   std::vector<vec3> position;
   std::vector<vec3> shading_normal;
   std::vector<vec3> geometric_normal;
-  std::vector<float> depth;          // linear view depth; kInfinity where nothing was hit
-  std::vector<vec3> albedo;          // base colour
-  std::vector<vec3> material;         // roughness, metallic, specular factor
-  std::vector<vec3> specular_f0;      // the dielectric's F0
+  std::vector<float> depth;       // linear view depth; kInfinity where nothing was hit
+  std::vector<vec3> albedo;       // base colour
+  std::vector<vec3> material;     // roughness, metallic, specular factor
+  std::vector<vec3> specular_f0;  // the dielectric's F0
   std::vector<vec3> emission;
-  std::vector<uint32_t> instance;    // kNoHit where nothing was hit
+  std::vector<uint32_t> instance;  // kNoHit where nothing was hit
   std::vector<uint32_t> prim;
-  std::vector<vec2> motion;          // pixels from this frame's film position to last frame's
-  std::vector<vec2> jitter;          // film position of the primary ray within its pixel, in [0,1)^2
+  std::vector<vec2> motion;  // pixels from this frame's film position to last frame's
+  std::vector<vec2> jitter;  // film position of the primary ray within its pixel, in [0,1)^2
 
   void resize(int w, int h);
   size_t size() const { return size_t(width) * height; }
   bool hit(size_t i) const { return instance[i] != kNoHit; }
-  Bsdf bsdf(size_t i) const { return Bsdf(shading_normal[i], albedo[i], material[i].y, material[i].x, material[i].z,
-                                    specular_f0[i]); }
+  Bsdf bsdf(size_t i) const {
+    return Bsdf(shading_normal[i], albedo[i], material[i].y, material[i].x, material[i].z, specular_f0[i]);
+  }
 };
 
 struct GBufferParams {

@@ -203,8 +203,8 @@ tinygltf::Model read_model(const Context& ctx) {
   const auto size = static_cast<unsigned int>(data.size());
   bool ok = false;
   try {
-    ok = ext == ".glb" ? parser.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(data.data()),
-                                                     size, base_dir)
+    ok = ext == ".glb" ? parser.LoadBinaryFromMemory(
+                             &model, &err, &warn, reinterpret_cast<const unsigned char*>(data.data()), size, base_dir)
                        : parser.LoadASCIIFromString(&model, &err, &warn, data.data(), size, base_dir);
   } catch (const std::exception& e) {
     ctx.fail(std::string("cannot parse: ") + e.what());
@@ -217,9 +217,9 @@ tinygltf::Model read_model(const Context& ctx) {
 
 // Refuses files whose required extensions change how geometry is stored; warns about other unknown ones.
 void check_required_extensions(const Context& ctx) {
-  static const char* const kSupported[] = {"KHR_texture_transform", "KHR_materials_emissive_strength",
-                                           "KHR_materials_specular", "KHR_materials_ior", "KHR_lights_punctual",
-                                           "KHR_mesh_quantization"};
+  static const char* const kSupported[] = {"KHR_texture_transform",  "KHR_materials_emissive_strength",
+                                           "KHR_materials_specular", "KHR_materials_ior",
+                                           "KHR_lights_punctual",    "KHR_mesh_quantization"};
   static const char* const kGeometry[] = {"KHR_draco_mesh_compression", "EXT_meshopt_compression"};
   for (const std::string& name : ctx.model.extensionsRequired) {
     if (std::find(std::begin(kSupported), std::end(kSupported), name) != std::end(kSupported)) continue;
@@ -278,27 +278,34 @@ const char* type_name(int type) {
 double read_component(const uint8_t* p, int component_type, bool normalized) {
   switch (component_type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE: {
-      int8_t v; std::memcpy(&v, p, 1);
+      int8_t v;
+      std::memcpy(&v, p, 1);
       return normalized ? std::max(v / 127.0, -1.0) : v;
     }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-      uint8_t v; std::memcpy(&v, p, 1);
+      uint8_t v;
+      std::memcpy(&v, p, 1);
       return normalized ? v / 255.0 : v;
     }
     case TINYGLTF_COMPONENT_TYPE_SHORT: {
-      int16_t v; std::memcpy(&v, p, 2);
+      int16_t v;
+      std::memcpy(&v, p, 2);
       return normalized ? std::max(v / 32767.0, -1.0) : v;
     }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-      uint16_t v; std::memcpy(&v, p, 2);
+      uint16_t v;
+      std::memcpy(&v, p, 2);
       return normalized ? v / 65535.0 : v;
     }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-      uint32_t v; std::memcpy(&v, p, 4);
+      uint32_t v;
+      std::memcpy(&v, p, 4);
       return normalized ? v / 4294967295.0 : v;
     }
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: default: {
-      float v; std::memcpy(&v, p, 4);
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+    default: {
+      float v;
+      std::memcpy(&v, p, 4);
       return v;
     }
   }
@@ -366,9 +373,9 @@ void apply_sparse(const Context& ctx, const tinygltf::Accessor& acc, AccessorVal
   if (sparse.indices.byteOffset < 0 || sparse.values.byteOffset < 0) ctx.fail(where + ": negative sparse byteOffset");
   const size_t n = size_t(sparse.count);
   const size_t value_size = size_t(component_size(acc.componentType)) * size_t(out.components);
-  ElementSpan indices = element_span(ctx, sparse.indices.bufferView, size_t(sparse.indices.byteOffset), n,
-                                     size_t(component_size(sparse.indices.componentType)), false,
-                                     where + " sparse indices");
+  ElementSpan indices =
+      element_span(ctx, sparse.indices.bufferView, size_t(sparse.indices.byteOffset), n,
+                   size_t(component_size(sparse.indices.componentType)), false, where + " sparse indices");
   ElementSpan values = element_span(ctx, sparse.values.bufferView, size_t(sparse.values.byteOffset), n, value_size,
                                     false, where + " sparse values");
   for (size_t i = 0; i < n; ++i) {
@@ -500,8 +507,8 @@ std::optional<Mesh> convert_primitive(const Context& ctx, int mesh_index, int pr
                                       DefaultMaterial&& default_material) {
   const tinygltf::Mesh& gmesh = ctx.model.meshes[size_t(mesh_index)];
   const tinygltf::Primitive& prim = gmesh.primitives[size_t(prim_index)];
-  const std::string where = "mesh " + std::to_string(mesh_index) + quoted_name(gmesh.name) + " primitive " +
-                            std::to_string(prim_index);
+  const std::string where =
+      "mesh " + std::to_string(mesh_index) + quoted_name(gmesh.name) + " primitive " + std::to_string(prim_index);
   if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) {
     ctx.warn(where + ": mode " + std::to_string(prim.mode) + " is not TRIANGLES; primitive skipped");
     return std::nullopt;
@@ -554,7 +561,7 @@ struct TextureTable {
 
 // A textureInfo object inside a material extension: what tinygltf parses into TextureInfo for core slots.
 struct ExtensionTexture {
-  int index = -1;                     // -1: absent or unusable
+  int index = -1;  // -1: absent or unusable
   int texcoord = 0;
   tinygltf::ExtensionMap extensions;  // KHR_texture_transform only
   std::string problem;                // why a present textureInfo was (partly) ignored
@@ -573,8 +580,10 @@ ExtensionTexture extension_texture(const Value* ext, const char* key) {
   t.index = int(*index);
   if (const Value* tc = member(*info, "texCoord")) {
     std::optional<double> v = number(tc);
-    if (v && *v >= 0.0 && *v <= 1e6 && *v == std::floor(*v)) t.texcoord = int(*v);
-    else t.problem = std::string(key) + ": texCoord is not a valid set index; using 0";
+    if (v && *v >= 0.0 && *v <= 1e6 && *v == std::floor(*v))
+      t.texcoord = int(*v);
+    else
+      t.problem = std::string(key) + ": texCoord is not a valid set index; using 0";
   }
   if (const Value* exts = member(*info, "extensions"))
     if (const Value* transform = member(*exts, "KHR_texture_transform"))
@@ -609,9 +618,7 @@ Wrap to_wrap(const Context& ctx, int mode, const std::string& where) {
     case TINYGLTF_TEXTURE_WRAP_REPEAT: return Wrap::Repeat;
     case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Wrap::Clamp;
     case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Wrap::Mirror;
-    default:
-      ctx.warn(where + ": unknown wrap mode " + std::to_string(mode) + "; using REPEAT");
-      return Wrap::Repeat;
+    default: ctx.warn(where + ": unknown wrap mode " + std::to_string(mode) + "; using REPEAT"); return Wrap::Repeat;
   }
 }
 
@@ -663,7 +670,8 @@ std::optional<Texture> convert_texture(const Context& ctx, size_t index) {
   const tinygltf::Image& image = ctx.model.images[size_t(gtex.source)];
   if (tex.name == "texture" + std::to_string(index) && !image.uri.empty()) tex.name = image.uri;
   if (!to_rgba8(image, tex.rgba)) {
-    ctx.warn(where + ": image " + std::to_string(gtex.source) + quoted_name(image.uri.empty() ? image.name : image.uri) +
+    ctx.warn(where + ": image " + std::to_string(gtex.source) +
+             quoted_name(image.uri.empty() ? image.name : image.uri) +
              " is missing or could not be decoded; texture ignored");
     return std::nullopt;
   }
@@ -747,22 +755,30 @@ void read_texture_transform(const Context& ctx, const tinygltf::ExtensionMap& ex
   if (ext == nullptr) return;
   const std::string at = where + " KHR_texture_transform";
   if (const Value* v = member(*ext, "offset")) {
-    if (auto o = numbers(v, 2)) ref.offset = vec2(float((*o)[0]), float((*o)[1]));
-    else ctx.warn(at + ": offset is not two finite numbers; ignored");
+    if (auto o = numbers(v, 2))
+      ref.offset = vec2(float((*o)[0]), float((*o)[1]));
+    else
+      ctx.warn(at + ": offset is not two finite numbers; ignored");
   }
   if (const Value* v = member(*ext, "scale")) {
-    if (auto s = numbers(v, 2)) ref.scale = vec2(float((*s)[0]), float((*s)[1]));
-    else ctx.warn(at + ": scale is not two finite numbers; ignored");
+    if (auto s = numbers(v, 2))
+      ref.scale = vec2(float((*s)[0]), float((*s)[1]));
+    else
+      ctx.warn(at + ": scale is not two finite numbers; ignored");
   }
   if (const Value* v = member(*ext, "rotation")) {
     auto r = number(v);
-    if (r && std::isfinite(*r)) ref.rotation = float(*r);
-    else ctx.warn(at + ": rotation is not a finite number; ignored");
+    if (r && std::isfinite(*r))
+      ref.rotation = float(*r);
+    else
+      ctx.warn(at + ": rotation is not a finite number; ignored");
   }
   if (const Value* v = member(*ext, "texCoord")) {
     auto t = number(v);
-    if (t && *t >= 0.0 && *t <= 1e6) ref.texcoord = int(*t);
-    else ctx.warn(at + ": texCoord is not a valid set index; ignored");
+    if (t && *t >= 0.0 && *t <= 1e6)
+      ref.texcoord = int(*t);
+    else
+      ctx.warn(at + ": texCoord is not a valid set index; ignored");
   }
 }
 
@@ -799,8 +815,8 @@ vec3 read_emission(const Context& ctx, const tinygltf::Material& m, const std::s
 }
 
 // KHR_materials_specular (factor, colour, their textures) and KHR_materials_ior into `mat`.
-void read_specular(const Context& ctx, const TextureTable& table, const tinygltf::Material& m,
-                   const std::string& where, Material& mat) {
+void read_specular(const Context& ctx, const TextureTable& table, const tinygltf::Material& m, const std::string& where,
+                   Material& mat) {
   if (const Value* ext = extension(m.extensions, "KHR_materials_specular")) {
     const std::string at = where + " KHR_materials_specular";
     if (std::optional<double> f = number(member(*ext, "specularFactor")))
@@ -823,8 +839,10 @@ void read_specular(const Context& ctx, const TextureTable& table, const tinygltf
   if (const Value* ext = extension(m.extensions, "KHR_materials_ior")) {
     std::optional<double> ior = number(member(*ext, "ior"));
     // The schema allows ior >= 1, or exactly 0 (F0 = 1).
-    if (ior && std::isfinite(*ior) && (*ior == 0.0 || (*ior >= 1.0 && *ior <= 1e6))) mat.ior = float(*ior);
-    else if (ior) ctx.warn(where + " KHR_materials_ior: ior must be 0 or at least 1; using 1.5");
+    if (ior && std::isfinite(*ior) && (*ior == 0.0 || (*ior >= 1.0 && *ior <= 1e6)))
+      mat.ior = float(*ior);
+    else if (ior)
+      ctx.warn(where + " KHR_materials_ior: ior must be 0 or at least 1; using 1.5");
   }
 }
 
@@ -860,12 +878,14 @@ Material convert_material(const Context& ctx, const TextureTable& table, size_t 
   mat.base_color_tex = texture_ref(ctx, table, bc.index, bc.texCoord, bc.extensions, true, where + " baseColorTexture");
   mat.metallic_roughness_tex =
       texture_ref(ctx, table, mr.index, mr.texCoord, mr.extensions, false, where + " metallicRoughnessTexture");
-  mat.normal_tex = texture_ref(ctx, table, m.normalTexture.index, m.normalTexture.texCoord,
-                               m.normalTexture.extensions, false, where + " normalTexture");
+  mat.normal_tex = texture_ref(ctx, table, m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions,
+                               false, where + " normalTexture");
   mat.emissive_tex = texture_ref(ctx, table, m.emissiveTexture.index, m.emissiveTexture.texCoord,
                                  m.emissiveTexture.extensions, true, where + " emissiveTexture");
-  if (std::isfinite(m.normalTexture.scale)) mat.normal_scale = float(m.normalTexture.scale);
-  else ctx.warn(where + ": normalTexture scale is not finite; using 1");
+  if (std::isfinite(m.normalTexture.scale))
+    mat.normal_scale = float(m.normalTexture.scale);
+  else
+    ctx.warn(where + ": normalTexture scale is not finite; using 1");
 
   read_specular(ctx, table, m, where, mat);
   mat.alpha_mode = to_alpha_mode(ctx, m.alphaMode, where);
@@ -891,7 +911,8 @@ mat4 local_matrix(const Context& ctx, const tinygltf::Node& node, const std::str
       for (int row = 0; row < 4; ++row) m[col][row] = float(node.matrix[size_t(col * 4 + row)]);
     return m;
   }
-  if (!node.translation.empty() && node.translation.size() != 3) ctx.fail(where + ": translation does not have 3 elements");
+  if (!node.translation.empty() && node.translation.size() != 3)
+    ctx.fail(where + ": translation does not have 3 elements");
   if (!node.rotation.empty() && node.rotation.size() != 4) ctx.fail(where + ": rotation does not have 4 elements");
   if (!node.scale.empty() && node.scale.size() != 3) ctx.fail(where + ": scale does not have 3 elements");
 
@@ -899,10 +920,12 @@ mat4 local_matrix(const Context& ctx, const tinygltf::Node& node, const std::str
   if (!node.translation.empty())
     m = glm::translate(m, vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2])));
   if (!node.rotation.empty()) {
-    const auto& r = node.rotation;  // glTF order x, y, z, w
+    const auto& r = node.rotation;                                    // glTF order x, y, z, w
     glm::quat q{float(r[3]), float(r[0]), float(r[1]), float(r[2])};  // glm order w, x, y, z
-    if (glm::length(q) > 0.0f) m *= glm::mat4_cast(glm::normalize(q));
-    else ctx.warn(where + ": rotation is a zero quaternion; ignored");
+    if (glm::length(q) > 0.0f)
+      m *= glm::mat4_cast(glm::normalize(q));
+    else
+      ctx.warn(where + ": rotation is a zero quaternion; ignored");
   }
   if (!node.scale.empty()) m = glm::scale(m, vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
   return m;
@@ -976,9 +999,12 @@ std::optional<PunctualLight> node_light(const Context& ctx, const PlacedNode& pl
   const std::string at = where + " light " + std::to_string(size_t(*index)) + quoted_name(gl.name);
 
   PunctualLight light;
-  if (gl.type == "point") light.type = PunctualType::Point;
-  else if (gl.type == "spot") light.type = PunctualType::Spot;
-  else if (gl.type == "directional") light.type = PunctualType::Directional;
+  if (gl.type == "point")
+    light.type = PunctualType::Point;
+  else if (gl.type == "spot")
+    light.type = PunctualType::Spot;
+  else if (gl.type == "directional")
+    light.type = PunctualType::Directional;
   else {
     ctx.warn(at + ": unknown type '" + gl.type + "'; light ignored");
     return std::nullopt;
@@ -996,8 +1022,10 @@ std::optional<PunctualLight> node_light(const Context& ctx, const PlacedNode& pl
   light.position = vec3(placed.world * vec4(0.0f, 0.0f, 0.0f, 1.0f));
   check_point(ctx, light.position, at + ": world-space position");
   vec3 dir(placed.world * vec4(0.0f, 0.0f, -1.0f, 0.0f));
-  if (glm::length(dir) > 0.0f && is_finite(glm::normalize(dir))) light.direction = glm::normalize(dir);
-  else ctx.warn(at + ": node transform collapses the light direction; using -Z");
+  if (glm::length(dir) > 0.0f && is_finite(glm::normalize(dir)))
+    light.direction = glm::normalize(dir);
+  else
+    ctx.warn(at + ": node transform collapses the light direction; using -Z");
 
   if (light.type == PunctualType::Spot) {
     light.outer_cone = clamped(ctx, gl.spot.outerConeAngle, 0.0f, kPi / 2.0f, kPi / 4.0f, at + " outerConeAngle");
@@ -1029,8 +1057,10 @@ std::optional<CameraDesc> node_camera(const Context& ctx, const PlacedNode& plac
   desc.target = desc.position + glm::normalize(forward);
   desc.up = glm::normalize(up);
   const double yfov = cam.perspective.yfov;
-  if (std::isfinite(yfov) && yfov > 0.0 && yfov < double(kPi)) desc.vfov_degrees = float(glm::degrees(yfov));
-  else ctx.warn(where + ": camera yfov " + std::to_string(yfov) + " is not in (0, pi); using 45 degrees");
+  if (std::isfinite(yfov) && yfov > 0.0 && yfov < double(kPi))
+    desc.vfov_degrees = float(glm::degrees(yfov));
+  else
+    ctx.warn(where + ": camera yfov " + std::to_string(yfov) + " is not in (0, pi); using 45 degrees");
   return desc;
 }
 
@@ -1039,10 +1069,11 @@ std::optional<CameraDesc> node_camera(const Context& ctx, const PlacedNode& plac
 
 // Reads the placed nodes and writes meshes (once per glTF mesh/primitive), instances, lights and camera.
 // Returns, per glTF node, the instances it carries (one per primitive), for animations.
-std::vector<std::vector<int>> convert_nodes(const Context& ctx, const std::vector<PlacedNode>& placed_nodes, Scene& scene) {
+std::vector<std::vector<int>> convert_nodes(const Context& ctx, const std::vector<PlacedNode>& placed_nodes,
+                                            Scene& scene) {
   std::vector<std::vector<int>> instances_of(ctx.model.nodes.size());
   std::map<std::pair<int, int>, int> mesh_of;  // (glTF mesh, primitive) -> candela mesh, -1 = skipped
-  std::vector<Bounds3> mesh_bounds;             // per candela mesh (this function alone adds meshes), object space
+  std::vector<Bounds3> mesh_bounds;            // per candela mesh (this function alone adds meshes), object space
   CHECK(scene.meshes.empty());
   int default_material = -1;
   auto get_default_material = [&]() {
@@ -1121,7 +1152,8 @@ Track<T> read_channel_track(const Context& ctx, const tinygltf::Animation& anim,
   for (size_t i = 0; i < times.count; ++i) {
     double t = times.values[i];
     if (!std::isfinite(t) || (i > 0 && t <= times.values[i - 1]))
-      ctx.fail(where + ": key time " + format_number(t) + " (key " + std::to_string(i) + ") is not finite and increasing");
+      ctx.fail(where + ": key time " + format_number(t) + " (key " + std::to_string(i) +
+               ") is not finite and increasing");
     const double* v = &values.values[(i * per_key + offset) * size_t(values.components)];
     for (int c = 0; c < values.components; ++c)
       if (!std::isfinite(v[c])) ctx.fail(where + ": key " + std::to_string(i) + " has a NaN or infinite value");
@@ -1139,9 +1171,11 @@ Track<T> read_channel_track(const Context& ctx, const tinygltf::Animation& anim,
 
 // Throws unless the animated instance stays within the coordinate limit at every key time of its tracks
 // (between keys translation and scale interpolate between key values, and rotation keeps lengths).
-void check_animated_bounds(const Context& ctx, const InstanceAnimation& a, const Bounds3& object, const std::string& where) {
+void check_animated_bounds(const Context& ctx, const InstanceAnimation& a, const Bounds3& object,
+                           const std::string& where) {
   for (const std::vector<float>* times : {&a.translation.times, &a.rotation.times, &a.scale.times})
-    for (float t : *times) check_placed_bounds(ctx, object, a.transform_at(t), where + " at animation time " + format_number(t));
+    for (float t : *times)
+      check_placed_bounds(ctx, object, a.transform_at(t), where + " at animation time " + format_number(t));
 }
 
 // Throws unless every material's emission (emissiveFactor x strength) is within the emission limit.
@@ -1164,18 +1198,28 @@ void convert_animations(const Context& ctx, const std::vector<PlacedNode>& place
     const tinygltf::Animation& anim = m.animations[a];
     for (size_t c = 0; c < anim.channels.size(); ++c) {
       const tinygltf::AnimationChannel& ch = anim.channels[c];
-      const std::string where = "animation " + std::to_string(a) + quoted_name(anim.name) + " channel " + std::to_string(c);
+      const std::string where =
+          "animation " + std::to_string(a) + quoted_name(anim.name) + " channel " + std::to_string(c);
       if (ch.target_node < 0) continue;  // the spec allows targets defined by extensions only
       check_index(ctx, ch.target_node, m.nodes.size(), "node", where);
       const tinygltf::Node& node = m.nodes[size_t(ch.target_node)];
       const std::string node_where = where + " (node " + std::to_string(ch.target_node) + quoted_name(node.name) + ")";
-      if (ch.target_path == "weights") { ctx.warn(node_where + ": morph target weights are ignored"); continue; }
-      if (!node.matrix.empty()) { ctx.fail(node_where + ": animates a node that has a matrix (glTF forbids this)"); }
+      if (ch.target_path == "weights") {
+        ctx.warn(node_where + ": morph target weights are ignored");
+        continue;
+      }
+      if (!node.matrix.empty()) {
+        ctx.fail(node_where + ": animates a node that has a matrix (glTF forbids this)");
+      }
       InstanceAnimation& anim_of_node = by_node[ch.target_node];
-      if (ch.target_path == "translation") anim_of_node.translation = read_channel_track<vec3>(ctx, anim, ch, TINYGLTF_TYPE_VEC3, node_where);
-      else if (ch.target_path == "rotation") anim_of_node.rotation = read_channel_track<quat>(ctx, anim, ch, TINYGLTF_TYPE_VEC4, node_where);
-      else if (ch.target_path == "scale") anim_of_node.scale = read_channel_track<vec3>(ctx, anim, ch, TINYGLTF_TYPE_VEC3, node_where);
-      else ctx.fail(node_where + ": unknown target path '" + ch.target_path + "'");
+      if (ch.target_path == "translation")
+        anim_of_node.translation = read_channel_track<vec3>(ctx, anim, ch, TINYGLTF_TYPE_VEC3, node_where);
+      else if (ch.target_path == "rotation")
+        anim_of_node.rotation = read_channel_track<quat>(ctx, anim, ch, TINYGLTF_TYPE_VEC4, node_where);
+      else if (ch.target_path == "scale")
+        anim_of_node.scale = read_channel_track<vec3>(ctx, anim, ch, TINYGLTF_TYPE_VEC3, node_where);
+      else
+        ctx.fail(node_where + ": unknown target path '" + ch.target_path + "'");
     }
   }
   std::vector<int> parent(m.nodes.size(), -1);
@@ -1192,20 +1236,26 @@ void convert_animations(const Context& ctx, const std::vector<PlacedNode>& place
     const std::string where = "node " + std::to_string(placed.node) + quoted_name(node.name);
     for (int up = parent[size_t(placed.node)]; up >= 0; up = parent[size_t(up)])
       if (by_node.count(up) && !instances_of[size_t(placed.node)].empty()) {
-        ctx.warn(where + ": only its ancestor node " + std::to_string(up) + " is animated; it stays in its static pose");
+        ctx.warn(where + ": only its ancestor node " + std::to_string(up) +
+                 " is animated; it stays in its static pose");
         break;
       }
     auto it = by_node.find(placed.node);
     if (it == by_node.end()) continue;
-    if (instances_of[size_t(placed.node)].empty()) { ctx.warn(where + ": animated but carries no mesh; ignored"); continue; }
+    if (instances_of[size_t(placed.node)].empty()) {
+      ctx.warn(where + ": animated but carries no mesh; ignored");
+      continue;
+    }
     if (node.camera >= 0 || node.extensions.count("KHR_lights_punctual"))
       ctx.warn(where + ": its light or camera does not follow the animation");
     InstanceAnimation a = it->second;
     a.after = placed.parent_world;
     if (a.translation.empty() && !node.translation.empty())
-      a.translation = constant(vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2])));
+      a.translation =
+          constant(vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2])));
     if (a.rotation.empty() && !node.rotation.empty())
-      a.rotation = constant(glm::normalize(quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2]))));
+      a.rotation = constant(glm::normalize(
+          quat(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2]))));
     if (a.scale.empty() && !node.scale.empty())
       a.scale = constant(vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
     for (int instance : instances_of[size_t(placed.node)]) {

@@ -15,9 +15,7 @@ vec3 Image::mean() const {
   return pixels.empty() ? vec3(0.0f) : vec3(sum / double(pixels.size()));
 }
 
-static float srgb_oetf(float x) {
-  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
-}
+static float srgb_oetf(float x) { return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f; }
 
 vec3 tonemap_srgb(const vec3& linear, float exposure) {
   vec3 x = glm::max(linear * exposure * 0.6f, vec3(0.0f));
@@ -35,7 +33,8 @@ static bool has_extension(const std::string& path, const char* ext) {
 // into place, so the file appears whole or not at all. Throws InputError naming the file.
 static void write_atomically(const std::string& path, const OIIO::ImageSpec& spec, const void* data) {
   std::filesystem::path target(path);
-  std::filesystem::path tmp = target.parent_path() / ("." + target.stem().string() + ".tmp" + target.extension().string());
+  std::filesystem::path tmp =
+      target.parent_path() / ("." + target.stem().string() + ".tmp" + target.extension().string());
   auto out = OIIO::ImageOutput::create(tmp.string());
   bool ok = out && out->open(tmp.string(), spec) && out->write_image(spec.format, data) && out->close();
   std::error_code ec;
@@ -53,8 +52,7 @@ static void write_atomically(const std::string& path, const OIIO::ImageSpec& spe
 
 void write_image(const std::string& path, const Image& image, float exposure) {
   bool exr = has_extension(path, ".exr");
-  if (!exr && !has_extension(path, ".png"))
-    throw InputError(path + ": output must end in .exr or .png");
+  if (!exr && !has_extension(path, ".png")) throw InputError(path + ": output must end in .exr or .png");
   OIIO::ImageSpec spec(image.width, image.height, 3, exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (exr) {
     write_atomically(path, spec, image.pixels.data());

@@ -35,7 +35,8 @@ ImageError compare_images(const Image& estimate, const Image& reference) {
   e.mean_difference = pixel_sum / double(pixels);
   e.mse = sum2 / double(3 * pixels);
   e.rel_mse = rel / double(3 * pixels);
-  e.standard_error = std::sqrt(std::max(0.0, pixel_sum2 / double(pixels) - e.mean_difference * e.mean_difference) / double(pixels));
+  e.standard_error =
+      std::sqrt(std::max(0.0, pixel_sum2 / double(pixels) - e.mean_difference * e.mean_difference) / double(pixels));
   return e;
 }
 

@@ -43,7 +43,8 @@ static MeshEmission analyse_mesh(const Scene& scene, const Mesh& mesh) {
   MeshEmission me;
   if (!scene.materials[mesh.material].emissive()) return me;
   std::vector<vec3> avg(mesh.triangles.size());
-  parallel_for(size_t(0), mesh.triangles.size(), [&](size_t i) { avg[i] = integrate_triangle_emission(scene, mesh, uint32_t(i)); });
+  parallel_for(size_t(0), mesh.triangles.size(),
+               [&](size_t i) { avg[i] = integrate_triangle_emission(scene, mesh, uint32_t(i)); });
   me.light_of_prim.assign(mesh.triangles.size(), -1);
   for (size_t i = 0; i < avg.size(); ++i) {
     if (max_component(avg[i]) <= kEmissionThreshold) continue;
@@ -54,7 +55,8 @@ static MeshEmission analyse_mesh(const Scene& scene, const Mesh& mesh) {
   return me;
 }
 
-LightList::LightList(const Scene& scene) : environment_(scene.environment), scene_radius_(0.5f * scene.bounds().diagonal()) {
+LightList::LightList(const Scene& scene)
+    : environment_(scene.environment), scene_radius_(0.5f * scene.bounds().diagonal()) {
   mesh_emission_.reserve(scene.meshes.size());
   for (const Mesh& mesh : scene.meshes) mesh_emission_.push_back(analyse_mesh(scene, mesh));
   // Each emitting instance's lights follow the previous one's; the slots are allocated once, then the
@@ -122,7 +124,8 @@ float LightList::power(size_t index) const {
     case PunctualType::Point: return 4.0f * kPi * I;
     case PunctualType::Spot: return 2.0f * kPi * (1.0f - std::cos(0.5f * (l.inner_cone + l.outer_cone))) * I;
     // Irradiance times the area of the scene's bounding disk (pbrt-v4 does the same).
-    case PunctualType::Directional: default: return kPi * scene_radius_ * scene_radius_ * I;
+    case PunctualType::Directional:
+    default: return kPi * scene_radius_ * scene_radius_ * I;
   }
 }
 

@@ -11,31 +11,31 @@
 namespace candela {
 
 struct TriangleLight {
-  vec3 p0, e1, e2;            // world corner and edges
-  vec3 normal;                // unit, by winding (the emitting side of one-sided emitters)
+  vec3 p0, e1, e2;  // world corner and edges
+  vec3 normal;      // unit, by winding (the emitting side of one-sided emitters)
   float area = 0.0f;
-  vec3 average_radiance{0.0f};// emission averaged over the triangle
+  vec3 average_radiance{0.0f};  // emission averaged over the triangle
   uint32_t instance = 0, prim = 0;
   bool two_sided = false;
-  bool textured = false;      // emission varies over the triangle (else it is average_radiance everywhere)
+  bool textured = false;  // emission varies over the triangle (else it is average_radiance everywhere)
   float power() const { return luminance(average_radiance) * area * kPi * (two_sided ? 2.0f : 1.0f); }
 };
 
 // Per mesh, which primitives emit and their averaged emission (computed once, shared by instances).
 struct MeshEmission {
-  std::vector<uint32_t> prims;           // emitting primitives
-  std::vector<vec3> average_radiance;    // per entry of prims
-  std::vector<int32_t> light_of_prim;    // prim -> position in prims, or -1
+  std::vector<uint32_t> prims;         // emitting primitives
+  std::vector<vec3> average_radiance;  // per entry of prims
+  std::vector<int32_t> light_of_prim;  // prim -> position in prims, or -1
 };
 
 // A point on a light as seen from a shading point: where, how bright towards it, and its density.
 struct LightSample {
   vec3 position{0.0f};
-  vec3 normal{0.0f};       // zero for punctual lights
-  vec3 wi{0.0f};           // unit direction from the shading point to the light
-  float distance = 0.0f;   // kInfinity for directional lights
-  vec3 radiance{0.0f};     // incident radiance (area lights) or irradiance-like intensity / d^2 (delta lights)
-  float pdf = 0.0f;        // solid-angle density for area lights; 1 for delta lights
+  vec3 normal{0.0f};      // zero for punctual lights
+  vec3 wi{0.0f};          // unit direction from the shading point to the light
+  float distance = 0.0f;  // kInfinity for directional lights
+  vec3 radiance{0.0f};    // incident radiance (area lights) or irradiance-like intensity / d^2 (delta lights)
+  float pdf = 0.0f;       // solid-angle density for area lights; 1 for delta lights
   bool is_delta = false;
 };
 

@@ -7,12 +7,12 @@
 
 namespace candela {
 
-using glm::vec2;
-using glm::vec3;
-using glm::vec4;
 using glm::mat3;
 using glm::mat4;
 using glm::uvec3;
+using glm::vec2;
+using glm::vec3;
+using glm::vec4;
 
 inline constexpr float kPi = 3.14159265358979323846f;
 inline constexpr float kInvPi = 1.0f / kPi;
@@ -47,8 +47,14 @@ inline vec3 transform_normal(const mat3& inv_transpose, const vec3& n) { return 
 // Axis-aligned box.
 struct Bounds3 {
   vec3 lo{kInfinity}, hi{-kInfinity};
-  void extend(const vec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
-  void extend(const Bounds3& b) { lo = glm::min(lo, b.lo); hi = glm::max(hi, b.hi); }
+  void extend(const vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void extend(const Bounds3& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
   bool empty() const { return lo.x > hi.x; }
   vec3 center() const { return 0.5f * (lo + hi); }
   vec3 extent() const { return hi - lo; }

@@ -21,8 +21,13 @@ vec3 sample_cosine_hemisphere(vec2 u) {
   vec2 d(0.0f);
   if (o.x != 0.0f || o.y != 0.0f) {
     float r, theta;
-    if (std::abs(o.x) > std::abs(o.y)) { r = o.x; theta = (kPi / 4.0f) * (o.y / o.x); }
-    else { r = o.y; theta = kPi / 2.0f - (kPi / 4.0f) * (o.x / o.y); }
+    if (std::abs(o.x) > std::abs(o.y)) {
+      r = o.x;
+      theta = (kPi / 4.0f) * (o.y / o.x);
+    } else {
+      r = o.y;
+      theta = kPi / 2.0f - (kPi / 4.0f) * (o.x / o.y);
+    }
     d = r * vec2(std::cos(theta), std::sin(theta));
   }
   float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));

@@ -12,7 +12,9 @@ inline uint32_t oct_encode(const vec3& n) {
   vec2 p = vec2(n.x, n.y) / l1;
   if (n.z < 0.0f)
     p = vec2((1.0f - std::abs(p.y)) * std::copysign(1.0f, p.x), (1.0f - std::abs(p.x)) * std::copysign(1.0f, p.y));
-  auto quantise = [](float v) { return uint32_t(round_nearest((std::clamp(v, -1.0f, 1.0f) * 0.5f + 0.5f) * 65535.0f)); };
+  auto quantise = [](float v) {
+    return uint32_t(round_nearest((std::clamp(v, -1.0f, 1.0f) * 0.5f + 0.5f) * 65535.0f));
+  };
   return quantise(p.x) | (quantise(p.y) << 16);
 }
 

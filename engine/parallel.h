@@ -39,7 +39,8 @@ void parallel_for_ranges(Index begin, Index end, Index grain, Fn&& fn) {
       fn(b, Index(std::min<size_t>(size_t(end - b), size_t(grain)) + b));
     }
   };
-  const size_t threads = std::min<size_t>(ranges, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const size_t threads =
+      std::min<size_t>(ranges, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   std::vector<std::thread> workers;
   for (size_t t = 1; t < threads; ++t) workers.emplace_back(work);
   work();

@@ -24,10 +24,10 @@ struct PathTracerParams {
   int max_depth = 8;       // bounces; 1 = direct light only (emission seen + one reflection)
   int rr_start_depth = 3;  // Russian roulette from this bounce on (keeps deep paths unbiased)
   uint64_t seed = 0;
-  bool jitter = true;      // false: every path starts through its pixel's centre (no anti-aliasing)
+  bool jitter = true;  // false: every path starts through its pixel's centre (no anti-aliasing)
   SampleSequence sequence = SampleSequence::Independent;
-  uint64_t epoch = 0;      // Sobol, ZSobol: the scrambles' key besides the seed (and, for Sobol, the pixel)
-  int log2_samples = 0;    // ZSobol: the frame's samples per pixel, 2^this (later ones start a new sequence)
+  uint64_t epoch = 0;    // Sobol, ZSobol: the scrambles' key besides the seed (and, for Sobol, the pixel)
+  int log2_samples = 0;  // ZSobol: the frame's samples per pixel, 2^this (later ones start a new sequence)
 };
 
 // Everything a frame's estimators read about the scene, fixed for the frame.
@@ -151,8 +151,10 @@ void path_trace(const SceneView& view, const S& sampler, const PathTracerParams&
       vec2 film = vec2(x, y) + (params.jitter ? offset : vec2(0.5f));
       PathStart start{Ray{view.camera.position(), view.camera.direction(film.x, film.y), 0.0f, kInfinity}};
       vec3 L = trace_path(view, sampler, params, start, stream, traced);
-      if (is_finite(L)) acc += L;
-      else non_finite.add(1);
+      if (is_finite(L))
+        acc += L;
+      else
+        non_finite.add(1);
     };
     for (int s = 0; s < params.spp; ++s) {
       const uint64_t sample = uint64_t(params.first_sample + s);

@@ -40,8 +40,10 @@ void Scene::set_time(float t) {
   for (const InstanceAnimation& a : instance_animations) instances[a.instance].transform = a.transform_at(t);
   for (const PowerAnimation& a : power_animations) {
     vec3 value = a.base * a.scale.at(t);
-    if (a.target == PowerAnimation::Target::Punctual) punctual_lights[a.index].intensity = value;
-    else materials[a.index].emission = value;
+    if (a.target == PowerAnimation::Target::Punctual)
+      punctual_lights[a.index].intensity = value;
+    else
+      materials[a.index].emission = value;
   }
   time = t;
 }

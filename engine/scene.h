@@ -28,11 +28,11 @@ struct Material {
   float ior = 1.5f;                   // KHR_materials_ior: dielectric F0 = ((ior - 1) / (ior + 1))^2
   TextureRef normal_tex;
   float normal_scale = 1.0f;
-  vec3 emission{0.0f};                // emissiveFactor * KHR_materials_emissive_strength
+  vec3 emission{0.0f};  // emissiveFactor * KHR_materials_emissive_strength
   TextureRef emissive_tex;
   AlphaMode alpha_mode = AlphaMode::Opaque;
   float alpha_cutoff = 0.5f;
-  bool double_sided = false;          // also makes emission two-sided
+  bool double_sided = false;  // also makes emission two-sided
   bool emissive() const { return max_component(emission) > 0.0f; }
 };
 
@@ -65,7 +65,7 @@ struct PunctualLight {
   vec3 direction{0.0f, 0.0f, -1.0f};  // where the light points (spot, directional)
   vec3 intensity{1.0f};               // colour * intensity
   float inner_cone = 0.0f, outer_cone = kPi / 4.0f;
-  int instance = -1;                  // attached to an instance: position/direction are in its object space
+  int instance = -1;  // attached to an instance: position/direction are in its object space
 };
 
 struct CameraDesc {
@@ -81,7 +81,7 @@ struct InstanceMotion {
   mat4 start{1.0f};
   vec3 velocity{0.0f};  // scene units per second
   float wrap_distance = 1.0f;
-  float phase = 0.0f;   // distance already travelled at t = 0
+  float phase = 0.0f;  // distance already travelled at t = 0
 };
 
 struct Scene {

@@ -6,7 +6,8 @@ WorldTriangle world_triangle(const Scene& scene, uint32_t instance, uint32_t pri
   const Instance& inst = scene.instances[instance];
   const Mesh& mesh = scene.meshes[inst.mesh];
   const uvec3& tri = mesh.triangles[prim];
-  return {transform_point(inst.transform, mesh.positions[tri.x]), transform_point(inst.transform, mesh.positions[tri.y]),
+  return {transform_point(inst.transform, mesh.positions[tri.x]),
+          transform_point(inst.transform, mesh.positions[tri.y]),
           transform_point(inst.transform, mesh.positions[tri.z]), glm::determinant(mat3(inst.transform)) < 0.0f};
 }
 

@@ -13,10 +13,10 @@ struct SurfacePoint {
   vec3 shading_normal{0.0f, 0.0f, 1.0f};    // faces wo (normal map applied)
   vec3 base_color{0.0f};
   float metallic = 0.0f, roughness = 1.0f, specular = 1.0f;
-  vec3 specular_f0{0.04f};                  // the dielectric's F0 (ior, specular colour)
-  vec3 emission{0.0f};                      // radiance leaving towards wo
+  vec3 specular_f0{0.04f};  // the dielectric's F0 (ior, specular colour)
+  vec3 emission{0.0f};      // radiance leaving towards wo
   uint32_t instance = kNoHit, prim = kNoHit;
-  bool front_face = true;                   // wo is on the side the triangle's winding faces
+  bool front_face = true;  // wo is on the side the triangle's winding faces
   Bsdf bsdf() const { return Bsdf(shading_normal, base_color, metallic, roughness, specular, specular_f0); }
 };
 
@@ -25,7 +25,10 @@ struct WorldTriangle {
   vec3 p0, p1, p2;
   bool mirrored = false;  // the instance transform flips handedness, which flips the front side (glTF 3.7.4)
   // Unnormalised normal of the front side (counter-clockwise winding in object space).
-  vec3 normal() const { vec3 n = glm::cross(p1 - p0, p2 - p0); return mirrored ? -n : n; }
+  vec3 normal() const {
+    vec3 n = glm::cross(p1 - p0, p2 - p0);
+    return mirrored ? -n : n;
+  }
 };
 WorldTriangle world_triangle(const Scene& scene, uint32_t instance, uint32_t prim);
 

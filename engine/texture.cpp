@@ -24,7 +24,8 @@ static int wrap_index(int i, int n, Wrap mode) {
       int m = ((i % period) + period) % period;
       return m < n ? m : period - 1 - m;
     }
-    case Wrap::Repeat: default: return ((i % n) + n) % n;
+    case Wrap::Repeat:
+    default: return ((i % n) + n) % n;
   }
 }
 

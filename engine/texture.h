@@ -15,7 +15,7 @@ struct Texture {
   int width = 0, height = 0;
   std::vector<uint8_t> rgba;  // width * height * 4, row 0 at the top (v = 0)
   Wrap wrap_s = Wrap::Repeat, wrap_t = Wrap::Repeat;
-  bool srgb = false;          // colour data (base colour, emission) is sRGB-encoded; data maps are linear
+  bool srgb = false;  // colour data (base colour, emission) is sRGB-encoded; data maps are linear
 
   // Bilinear lookup at uv, linear values in [0, 1].
   vec4 sample(vec2 uv) const;

@@ -40,7 +40,10 @@ void for_each_pixel(int width, int height, RayCounter& rays, Fn&& fn) {
 template <class Fn>
 void for_each_pixel(int width, int height, Fn&& fn) {
   RayCounter none;
-  for_each_pixel(width, height, none, [&](size_t i, int x, int y) -> uint64_t { fn(i, x, y); return 0; });
+  for_each_pixel(width, height, none, [&](size_t i, int x, int y) -> uint64_t {
+    fn(i, x, y);
+    return 0;
+  });
 }
 
 }  // namespace candela

@@ -33,8 +33,12 @@ static RTCDevice shared_device() {
 
 void RayPacket16::set(int lane, const Ray& ray) {
   RTCRay16& r = rayhit.ray;
-  r.org_x[lane] = ray.origin.x; r.org_y[lane] = ray.origin.y; r.org_z[lane] = ray.origin.z;
-  r.dir_x[lane] = ray.direction.x; r.dir_y[lane] = ray.direction.y; r.dir_z[lane] = ray.direction.z;
+  r.org_x[lane] = ray.origin.x;
+  r.org_y[lane] = ray.origin.y;
+  r.org_z[lane] = ray.origin.z;
+  r.dir_x[lane] = ray.direction.x;
+  r.dir_y[lane] = ray.direction.y;
+  r.dir_z[lane] = ray.direction.z;
   r.tnear[lane] = ray.tmin;
   r.tfar[lane] = ray.tmax;
   r.time[lane] = 0.0f;
@@ -69,8 +73,8 @@ static float hit_alpha(const AlphaMask& mask, const RTCFilterFunctionNArguments*
   if (mask.texture && !mask.mesh->uv0.empty()) {
     const uvec3& tri = mask.mesh->triangles[RTCHitN_primID(args->hit, args->N, i)];
     float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
-    const std::vector<vec2>& uv = mask.material->base_color_tex.texcoord == 1 && !mask.mesh->uv1.empty()
-                                      ? mask.mesh->uv1 : mask.mesh->uv0;
+    const std::vector<vec2>& uv =
+        mask.material->base_color_tex.texcoord == 1 && !mask.mesh->uv1.empty() ? mask.mesh->uv1 : mask.mesh->uv0;
     vec2 st = uv[tri.x] * (1.0f - u - v) + uv[tri.y] * u + uv[tri.z] * v;
     alpha *= mask.texture->sample(mask.material->base_color_tex.apply(st)).a;
   }
@@ -113,12 +117,12 @@ RTCGeometry Tracer::new_triangle_geometry(const Scene& scene, int mesh_index, co
   const Mesh& mesh = scene.meshes[mesh_index];
   RTCDevice device = shared_device();
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<vec3*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(vec3),
-                                                       mesh.positions.size()));
+  auto* v = static_cast<vec3*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(vec3), mesh.positions.size()));
   for (size_t k = 0; k < mesh.positions.size(); ++k)
     v[k] = transform ? transform_point(*transform, mesh.positions[k]) : mesh.positions[k];
-  auto* idx = static_cast<uvec3*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(uvec3),
-                                                          mesh.triangles.size()));
+  auto* idx = static_cast<uvec3*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(uvec3), mesh.triangles.size()));
   std::memcpy(idx, mesh.triangles.data(), mesh.triangles.size() * sizeof(uvec3));
   const Material& material = scene.materials[mesh.material];
   if (material.alpha_mode != AlphaMode::Opaque) {
@@ -188,8 +192,10 @@ Tracer::Tracer(const Scene& scene) {
     uint32_t id = uint32_t(top_instances_.size());
     top_instances_.push_back(i);
     RTCGeometry g = attach_instance(device, top_, ms, inst.transform, id);
-    if (inst.animated) animated_.push_back({i, g});
-    else rtcReleaseGeometry(g);
+    if (inst.animated)
+      animated_.push_back({i, g});
+    else
+      rtcReleaseGeometry(g);
   }
   rtcSetSceneFlags(top_, animated_.empty() ? RTC_SCENE_FLAG_NONE : RTC_SCENE_FLAG_DYNAMIC);
   rtcCommitScene(top_);
@@ -219,10 +225,18 @@ Hit Tracer::intersect(const Ray& ray) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
-  rh.ray.org_x = ray.origin.x; rh.ray.org_y = ray.origin.y; rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.direction.x; rh.ray.dir_y = ray.direction.y; rh.ray.dir_z = ray.direction.z;
-  rh.ray.tnear = ray.tmin; rh.ray.tfar = ray.tmax;
-  rh.ray.time = 0.0f; rh.ray.mask = 0xffffffffu; rh.ray.id = 0; rh.ray.flags = 0;
+  rh.ray.org_x = ray.origin.x;
+  rh.ray.org_y = ray.origin.y;
+  rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.direction.x;
+  rh.ray.dir_y = ray.direction.y;
+  rh.ray.dir_z = ray.direction.z;
+  rh.ray.tnear = ray.tmin;
+  rh.ray.tfar = ray.tmax;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(top_, &ctx, &rh);
@@ -239,10 +253,18 @@ bool Tracer::occluded(const Ray& ray) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay r;
-  r.org_x = ray.origin.x; r.org_y = ray.origin.y; r.org_z = ray.origin.z;
-  r.dir_x = ray.direction.x; r.dir_y = ray.direction.y; r.dir_z = ray.direction.z;
-  r.tnear = ray.tmin; r.tfar = ray.tmax;
-  r.time = 0.0f; r.mask = 0xffffffffu; r.id = 0; r.flags = 0;
+  r.org_x = ray.origin.x;
+  r.org_y = ray.origin.y;
+  r.org_z = ray.origin.z;
+  r.dir_x = ray.direction.x;
+  r.dir_y = ray.direction.y;
+  r.dir_z = ray.direction.z;
+  r.tnear = ray.tmin;
+  r.tfar = ray.tmax;
+  r.time = 0.0f;
+  r.mask = 0xffffffffu;
+  r.id = 0;
+  r.flags = 0;
   rtcOccluded1(top_, &ctx, &r);
   return r.tfar < 0.0f;
 }

@@ -82,13 +82,13 @@ class Tracer {
   }
 
   RTCScene top_ = nullptr;
-  RTCScene static_scene_ = nullptr;          // flattened static geometry (one BVH)
+  RTCScene static_scene_ = nullptr;  // flattened static geometry (one BVH)
   uint32_t static_top_id_ = RTC_INVALID_GEOMETRY_ID;
-  std::vector<uint32_t> static_instances_;   // static scene geometry id -> scene instance
-  std::vector<uint32_t> top_instances_;      // top-level geometry id -> scene instance
-  std::vector<RTCScene> mesh_scenes_;        // per mesh, built when some instance of it is not flattened
+  std::vector<uint32_t> static_instances_;                  // static scene geometry id -> scene instance
+  std::vector<uint32_t> top_instances_;                     // top-level geometry id -> scene instance
+  std::vector<RTCScene> mesh_scenes_;                       // per mesh, built when some instance of it is not flattened
   std::vector<std::pair<uint32_t, RTCGeometry>> animated_;  // (scene instance, its top-level geometry)
-  std::vector<std::unique_ptr<struct AlphaMask>> alpha_masks_;      // per masked mesh, read by the filter
+  std::vector<std::unique_ptr<struct AlphaMask>> alpha_masks_;  // per masked mesh, read by the filter
   float scene_radius_ = 1.0f;
   float epsilon_ = 1e-5f;
 };
@@ -110,8 +110,10 @@ class RayQueue16 {
   void finish() {
     if (lanes_ == 0) return;
     for (int k = lanes_; k < 16; ++k) packet_.set_inactive(k);
-    if (query_ == RayQuery::Occluded) tracer_.occluded16(packet_);
-    else tracer_.intersect16(packet_, false);
+    if (query_ == RayQuery::Occluded)
+      tracer_.occluded16(packet_);
+    else
+      tracer_.intersect16(packet_, false);
     for (int k = 0; k < lanes_; ++k) answer_(tags_[k], packet_, k);
     traced_ += uint64_t(lanes_);
     lanes_ = 0;

@@ -25,8 +25,10 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
   visibility.assign(g.size(), DiVisibility{});
   auto finish = [&](size_t i, const vec3& L) {
-    if (is_finite(L)) sum.pixels[i] += L;
-    else non_finite.add(1);
+    if (is_finite(L))
+      sum.pixels[i] += L;
+    else
+      non_finite.add(1);
   };
   // Shadow rays go out 16 at a time in pixel order (rtcOccluded16): neighbouring pixels' rays towards
   // nearby lights share much of their traversal.

@@ -34,16 +34,19 @@ inline constexpr uint32_t kSurfacePointSample = 0xffffffffu;
 using DiReservoir = Reservoir<DiSample>;
 
 struct DiParams {
-  int light_candidates = 4;      // M_l: candidates per pixel from the light sampler (cost: M_l light samples + BSDF evaluations);
-                                 // 4 beat 8 at equal time on manylights, city and occluded_room
-                                 // (docs/restir.md, "Spatial neighbours and light candidates")
-  int bsdf_candidates = 1;       // M_b: candidates from BSDF sampling that hit an emitter (cost: one ray each)
-  bool candidate_visibility = false;  // trace a shadow ray to the chosen candidate and drop it if occluded (1 ray per pixel)
-  bool simd = true;              // evaluate light candidates in SIMD lanes (target_lanes.h); false: the scalar
-                                 // reference, which gives the same bits
-  int light_tiles = 0;           // > 0: light candidates read presampled light tiles (light_tiles.h): this many
-                                 // shared ones per frame (power, uniform), or one per 16x16 block (tree, exhaustive)
-  int light_tile_size = 0;       // entries per tile; 0: 1,024 per shared tile, 128 per region tile
+  // M_l: candidates per pixel from the light sampler (cost: M_l light samples + BSDF evaluations); 4 beat 8 at
+  // equal time on manylights, city and occluded_room (docs/restir.md, "Spatial neighbours and light candidates")
+  int light_candidates = 4;
+  int bsdf_candidates = 1;  // M_b: candidates from BSDF sampling that hit an emitter (cost: one ray each)
+  // Trace a shadow ray to the chosen candidate and drop it if occluded (1 ray per pixel).
+  bool candidate_visibility = false;
+  // Evaluate light candidates in SIMD lanes (target_lanes.h); false: the scalar reference, which gives the
+  // same bits.
+  bool simd = true;
+  // > 0: light candidates read presampled light tiles (light_tiles.h): this many shared ones per frame (power,
+  // uniform), or one per 16x16 block (tree, exhaustive).
+  int light_tiles = 0;
+  int light_tile_size = 0;  // entries per tile; 0: 1,024 per shared tile, 128 per region tile
   uint64_t seed = 0;
 };
 
@@ -71,7 +74,8 @@ inline DiReceiver di_receiver(const DiDomain& domain, size_t i) {
 }
 // The exact receiver of pixel i, from the G-buffer: for sampling densities and the final shading.
 inline DiReceiver di_exact_receiver(const GBuffer& g, const vec3& eye, const LightList& lights, size_t i) {
-  return {g.position[i], g.geometric_normal[i], g.shading_normal[i], glm::normalize(eye - g.position[i]), g.bsdf(i), &lights};
+  return {g.position[i], g.geometric_normal[i], g.shading_normal[i], glm::normalize(eye - g.position[i]), g.bsdf(i),
+          &lights};
 }
 
 // The sample (light, uv) with its point placed by `lights` (punctual lights have no point to store).
@@ -142,18 +146,18 @@ Image di_reservoir_image(const GBuffer& g, const std::vector<DiReservoir>& reser
 struct DiVisibility {
   uint32_t light = 0;
   vec2 uv{0.0f};
-  bool valid = false;   // a verdict exists (false where nothing was traced)
+  bool valid = false;  // a verdict exists (false where nothing was traced)
   bool visible = false;
-  uint8_t age = 0;      // frames this verdict has been reused
+  uint8_t age = 0;  // frames this verdict has been reused
 };
 
 // Final visibility reuse: a pixel whose sample is the one its temporal history pixel shaded last frame
 // takes that pixel's verdict instead of tracing, for at most max_age frames in a row. Biased where
 // occluders move (their shadows lag up to max_age frames) and by the sub-pixel move of the surface point.
 struct DiVisibilityReuse {
-  int max_age = 0;                                     // 0: trace every pixel every frame
-  const std::vector<int32_t>* history_pixel = nullptr; // from temporal reuse (null: no history)
-  const std::vector<DiVisibility>* previous = nullptr; // last frame's verdicts
+  int max_age = 0;                                      // 0: trace every pixel every frame
+  const std::vector<int32_t>* history_pixel = nullptr;  // from temporal reuse (null: no history)
+  const std::vector<DiVisibility>* previous = nullptr;  // last frame's verdicts
 };
 
 // Stage "di_shade": reads the G-buffer, reservoirs and the unsampled light of the candidates, adds

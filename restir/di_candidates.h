@@ -77,8 +77,10 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
   b.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
   b.ctx = tile ? tile->ctx : ShadingContext{g.position[i], g.shading_normal[i]};  // what the candidates' density is for
   b.receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
-  if (params.simd) batch.lanes.exact.set(slot, b.receiver.bsdf.wo_terms(b.receiver.wo));
-  else batch.target(domain, slot);  // the scalar reference evaluates every candidate on it
+  if (params.simd)
+    batch.lanes.exact.set(slot, b.receiver.bsdf.wo_terms(b.receiver.wo));
+  else
+    batch.target(domain, slot);  // the scalar reference evaluates every candidate on it
   // Without a tile, the M_l lights in one call (the light tree shares its upper levels between them), each
   // candidate's random numbers drawn in the order one candidate at a time would draw them.
   if (!tile) {
@@ -187,13 +189,14 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiDo
     float p_hat = di_target(c);
     if (p_hat <= 0.0f) continue;
     float p_light = sampler.pmf(b.ctx, uint32_t(light)) * di_area_pdf(view.lights, uint32_t(light));
-    r.update(s, p_hat / (M_l * p_light + M_b * di_bsdf_area_pdf(receiver, c, params.bsdf_candidates)), p_hat, candidate.u);
+    r.update(s, p_hat / (M_l * p_light + M_b * di_bsdf_area_pdf(receiver, c, params.bsdf_candidates)), p_hat,
+             candidate.u);
   }
   r.M = M_l + M_b;
   r.finalize();
   if (!params.candidate_visibility || r.W <= 0.0f) return 0;
-  if (view.tracer.occluded(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal,
-                                      di_contribution(receiver, r.y).light)))
+  if (view.tracer.occluded(
+          shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, di_contribution(receiver, r.y).light)))
     r.W = 0.0f;
   return 1;
 }
@@ -205,8 +208,8 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiDo
 // plus one shadow ray with candidate_visibility.
 template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                           const DiParams& params, int frame, std::vector<DiReservoir>& out, std::vector<vec3>& unsampled,
-                           RayCounter& rays, const LightTiles* tiles = nullptr) {
+                           const DiParams& params, int frame, std::vector<DiReservoir>& out,
+                           std::vector<vec3>& unsampled, RayCounter& rays, const LightTiles* tiles = nullptr) {
   out.assign(g.size(), DiReservoir{});
   unsampled.assign(g.size(), vec3(0.0f));
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
@@ -223,7 +226,8 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       }
       if (params.simd) {
         build_receiver_lanes(batch.surfaces, domain.eye, slots, batch.lanes);
-        evaluate_candidate_lanes(batch.lanes, batch.planes.data(), params.light_candidates, slots, params.bsdf_candidates > 0);
+        evaluate_candidate_lanes(batch.lanes, batch.planes.data(), params.light_candidates, slots,
+                                 params.bsdf_candidates > 0);
       } else {
         evaluate_candidates_scalar(params, slots, batch);
       }

@@ -125,8 +125,8 @@ float basic_weight(const SceneView& view, const DiReuseInput* inputs, InputTarge
 // they did darkened the image; using V_i in one formula only made the weights of a sample sum to more
 // than one, which temporal reuse amplified without bound (measured). p_c needs no visibility: where y is
 // occluded from the canonical pixel, it shades to zero whatever its weight.
-float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int count,
-                      int source, int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
+float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int count, int source,
+                      int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   const int n = count - 1;
   if (n == 0) return 1.0f;
   const float canonical = inputs[0].M / float(n) * p_hat_here;
@@ -219,18 +219,19 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
 uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row, Rng* rng,
                      size_t first, std::vector<DiReservoir>& out) {
   const bool weights = params.bias != DiBiasCorrection::None;
-  uint64_t traced = params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
+  uint64_t traced =
+      params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
   for (int s = 0; s < slots; ++s)
     if (row.count[s] > 0)
-      out[first + size_t(s)] = combine(view, row.inputs[s], row.count[s], params, params.simd ? &row.targets[s] : nullptr,
-                                       rng[s], traced);
+      out[first + size_t(s)] =
+          combine(view, row.inputs[s], row.count[s], params, params.simd ? &row.targets[s] : nullptr, rng[s], traced);
   return traced;
 }
 
 }  // namespace
 
-void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source, const DiReuseParams& params,
-                    float* weights) {
+void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source,
+                    const DiReuseParams& params, float* weights) {
   InputTargets targets(inputs, count, nullptr);
   const LightList* here_lights = &inputs[0].domain->lights;
   const DiSample here = placed_for_combiner(view, inputs[source], here_lights);
@@ -262,7 +263,8 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     }
     if (px < 0 || py < 0 || px >= g.width || py >= g.height) return -1;
     size_t j = size_t(py) * g.width + px;
-    return similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params) ? int64_t(j) : -1;
+    return similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params) ? int64_t(j)
+                                                                                                       : -1;
   };
   // Per tile row: each pixel's pair of inputs (its reservoir and its history, aged by a frame), then the
   // row's combinations.
@@ -337,7 +339,8 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     d.count = 0;
     d.active = surfaces[i].hit() && surfaces[i].roughness() >= params.min_roughness;
     if (!d.active) return;
-    const int neighbours = boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
+    const int neighbours =
+        boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, kMaxReuseInputs - 1);
     rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
     for (int k = 1; k < max_inputs; ++k) {
@@ -380,7 +383,8 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(width) + size_t(tile.x0);
       for (int s = 0; s < slots; ++s) draw(first + size_t(s), tile.x0 + s, y, batch.rng[s], batch.drawn[s]);
-      for (int s = 0; s < slots; ++s) select(first + size_t(s), batch.drawn[s], batch.row.count[s], batch.row.inputs[s]);
+      for (int s = 0; s < slots; ++s)
+        select(first + size_t(s), batch.drawn[s], batch.row.count[s], batch.row.inputs[s]);
       traced += combine_row(view, params, slots, batch.row, batch.rng, first, out);
     }
     rays.add(traced);
@@ -403,7 +407,8 @@ void di_boiling_filter(const DiDomain& current, float threshold, std::vector<DiR
     const float limit = threshold * float(sum / count);
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x)
-        if (size_t i = size_t(y) * current.width + x; contribution(i) > limit) reservoirs[i].W = reservoirs[i].w_sum = 0.0f;
+        if (size_t i = size_t(y) * current.width + x; contribution(i) > limit)
+          reservoirs[i].W = reservoirs[i].w_sum = 0.0f;
   });
 }
 

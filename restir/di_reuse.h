@@ -17,42 +17,42 @@ enum class DiBiasCorrection : uint8_t { None, Basic, Pairwise };
 
 struct DiReuseParams {
   bool temporal = true;
-  float history_cap = 20.0f;      // the previous reservoir counts at most this many times the current M
+  float history_cap = 20.0f;          // the previous reservoir counts at most this many times the current M
   bool permutation_sampling = false;  // reproject onto a neighbour of the previous pixel (x ^ a, y ^ b, a and b
                                       // fixed per frame): decorrelates frames for a temporal denoiser; unbiased
                                       // with basic/pairwise, slightly blurrier
   bool spatial = true;
-  int spatial_neighbours = 5;     // per pass; each costs k + 1 target evaluations in basic mode
+  int spatial_neighbours = 5;        // per pass; each costs k + 1 target evaluations in basic mode
   int disocclusion_neighbours = 10;  // first pass, pixels where temporal reuse found no history: more
                                      // neighbours make up for the lost history (a disocclusion boost)
-  float spatial_radius = 16.0f;   // pixels
+  float spatial_radius = 16.0f;      // pixels
   int spatial_passes = 1;
   float depth_tolerance = 0.1f;   // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
   DiBiasCorrection bias = DiBiasCorrection::Pairwise;
-  bool mis_visibility = false;    // the MIS weights include visibility of the sample from the other inputs'
-                                  // surfaces: needed to stay unbiased when every input's samples are visible
-                                  // from it (candidate_visibility; ReSTIR GI's samples, always). Shadow rays per
-                                  // pixel: basic (k+1)^2, pairwise 2k; temporal inputs are tested against this
-                                  // frame's geometry
-  float boiling_threshold = 0.0f; // > 0: after temporal reuse, drop reservoirs whose estimated contribution
-                                  // exceeds this many times their 16x16 block's mean (biased: darkens; see
-                                  // di_boiling_filter)
-  int visibility_reuse_frames = 0; // > 0: final visibility reuse for up to this many frames (see DiVisibilityReuse)
-  bool drop_occluded = true;      // a reservoir whose sample the shading found occluded keeps its M but loses the
-                                  // sample before it becomes history, so that reuse stops choosing it (see
-                                  // Restir::reuse_and_shade; biased where visibility differs between frames or
-                                  // neighbours, about -1.5% on manylights; frame error 0.45-0.67x:
-                                  // docs/restir.md, "Occluded samples")
-  int max_sample_age = 0;         // > 0: temporal reuse drops history whose sample is older (frames); 0: no limit
-  float min_roughness = 0.0f;     // pixels smoother than this keep their own reservoir (no reuse): where the BSDF
-                                  // is sharp, neighbours' samples rarely fit and their weights explode
-  float max_jacobian = 0.0f;      // > 0, surface-point samples (ReSTIR GI): a reused sample whose reconnection
-                                  // Jacobian (Ouyang et al. 2021, eq. 11: the ratio of its solid angle per area
-                                  // seen from this pixel to that from its own) exceeds this is rejected. Biased
-                                  // (drops the samples that would be fireflies); 0: unbiased
-  bool simd = true;               // evaluate the combinations' targets in SIMD lanes (reuse_targets.h); false: the
-                                  // scalar reference, which gives the same bits
+  bool mis_visibility = false;      // the MIS weights include visibility of the sample from the other inputs'
+                                    // surfaces: needed to stay unbiased when every input's samples are visible
+                                    // from it (candidate_visibility; ReSTIR GI's samples, always). Shadow rays per
+                                    // pixel: basic (k+1)^2, pairwise 2k; temporal inputs are tested against this
+                                    // frame's geometry
+  float boiling_threshold = 0.0f;   // > 0: after temporal reuse, drop reservoirs whose estimated contribution
+                                    // exceeds this many times their 16x16 block's mean (biased: darkens; see
+                                    // di_boiling_filter)
+  int visibility_reuse_frames = 0;  // > 0: final visibility reuse for up to this many frames (see DiVisibilityReuse)
+  bool drop_occluded = true;        // a reservoir whose sample the shading found occluded keeps its M but loses the
+                                    // sample before it becomes history, so that reuse stops choosing it (see
+                                    // Restir::reuse_and_shade; biased where visibility differs between frames or
+                                    // neighbours, about -1.5% on manylights; frame error 0.45-0.67x:
+                                    // docs/restir.md, "Occluded samples")
+  int max_sample_age = 0;           // > 0: temporal reuse drops history whose sample is older (frames); 0: no limit
+  float min_roughness = 0.0f;       // pixels smoother than this keep their own reservoir (no reuse): where the BSDF
+                                    // is sharp, neighbours' samples rarely fit and their weights explode
+  float max_jacobian = 0.0f;        // > 0, surface-point samples (ReSTIR GI): a reused sample whose reconnection
+                                    // Jacobian (Ouyang et al. 2021, eq. 11: the ratio of its solid angle per area
+                                    // seen from this pixel to that from its own) exceeds this is rejected. Biased
+                                    // (drops the samples that would be fireflies); 0: unbiased
+  bool simd = true;                 // evaluate the combinations' targets in SIMD lanes (reuse_targets.h); false: the
+                                    // scalar reference, which gives the same bits
   uint64_t seed = 0;
 };
 
@@ -70,8 +70,8 @@ struct DiReuseInput {
 // for the sample y of input `source` (input 0: the pixel that combines, whose frame y is placed in), into
 // `weights`. The reuse stages compute the same function for z = source only; tests call this to check
 // that the weights of one sample sum to one over the inputs (tests/test_mis_weights.cpp).
-void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source, const DiReuseParams& params,
-                    float* weights);
+void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source,
+                    const DiReuseParams& params, float* weights);
 
 // Stage "di_temporal": reads this frame's G-buffer (motion), this and the previous frame's surfaces and
 // reservoirs, writes `out` (one combined reservoir per pixel) and `history_pixel` (the previous frame's

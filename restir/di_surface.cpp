@@ -25,7 +25,10 @@ void pack_di_surfaces(const GBuffer& g, std::vector<DiSurface>& out) {
     vec3 a = glm::sqrt(glm::clamp(g.albedo[i], 0.0f, 1.0f));
     const vec3& m = g.material[i];
     float f0 = std::sqrt(max_component(g.specular_f0[i]));
-    s = {g.position[i], g.depth[i], oct_encode(g.shading_normal[i]), oct_encode(g.geometric_normal[i]),
+    s = {g.position[i],
+         g.depth[i],
+         oct_encode(g.shading_normal[i]),
+         oct_encode(g.geometric_normal[i]),
          unorm8(a.x) | unorm8(a.y) << 8 | unorm8(a.z) << 16,
          unorm8(m.x) | unorm8(m.y) << 8 | unorm8(m.z) << 16 | unorm8(f0) << 24};
   });

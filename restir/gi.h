@@ -14,9 +14,9 @@
 namespace candela {
 
 struct GiParams {
-  int max_depth = 8;        // bounces counted from the camera, as the path tracer's --max-depth (2: one
-                            // indirect bounce); below 2 there is no indirect light
-  int rr_start_depth = 3;   // Russian roulette from this bounce on
+  int max_depth = 8;       // bounces counted from the camera, as the path tracer's --max-depth (2: one
+                           // indirect bounce); below 2 there is no indirect light
+  int rr_start_depth = 3;  // Russian roulette from this bounce on
   uint64_t seed = 0;
 };
 
@@ -45,7 +45,8 @@ void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& 
     vec2 ub(rng.next_float(), rng.next_float()), tag(rng.next_float(), rng.next_float());
     float lobe = rng.next_float(), u = rng.next_float();
     BsdfSample bs;
-    if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f) return 0;
+    if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f)
+      return 0;
     uint64_t traced = 0;
     std::optional<SurfacePoint> x_s;
     PathStart start{view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi), 1, bs.pdf,

@@ -54,8 +54,9 @@ class LightTiles {
 
   // Stage "di_light_tiles": `count` shared tiles (context-free samplers) or one tile per screen block of
   // `g` (the others), of `size` entries each (0: kSharedTileSize or kRegionTileSize), keyed on (seed,
-  // frame, tile, entry) so that they do not depend on the thread count. Cost: tiles x size light samples (the tree shares the upper levels of a
-  // tile's descents, sample_lights), plus one pass over the G-buffer's points for region tiles.
+  // frame, tile, entry) so that they do not depend on the thread count. Cost: tiles x size light samples (the tree
+  // shares the upper levels of a tile's descents, sample_lights), plus one pass over the G-buffer's points for region
+  // tiles.
   template <LightSampler S>
   void build(const SceneView& view, const S& sampler, const GBuffer& g, int count, int size, uint64_t seed, int frame) {
     size_ = size > 0 ? size : kContextFreeSampler<S> ? kSharedTileSize : kRegionTileSize;

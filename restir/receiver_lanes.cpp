@@ -22,9 +22,7 @@ using VU = hn::Vec<DU>;
 V3 oct_decode(D d, VU e) {
   const DI di;
   const V scale = hn::Set(d, 2.0f / 65535.0f), one = hn::Set(d, 1.0f), zero = hn::Zero(d);
-  auto coordinate = [&](VU bits) {
-    return hn::Sub(hn::Mul(hn::ConvertTo(d, hn::BitCast(di, bits)), scale), one);
-  };
+  auto coordinate = [&](VU bits) { return hn::Sub(hn::Mul(hn::ConvertTo(d, hn::BitCast(di, bits)), scale), one); };
   const V x = coordinate(hn::And(e, hn::Set(DU(), 0xffffu))), y = coordinate(hn::ShiftRight<16>(e));
   const V z = hn::Sub(hn::Sub(one, hn::Abs(x)), hn::Abs(y));
   const V t = max_of(hn::Neg(z), zero);
@@ -62,8 +60,8 @@ void build(D d, const SurfaceLanes& in, const vec3& eye, int s, ReceiverLanes& o
   const V3 p = load3(d, in.px, in.py, in.pz, s);
   const V3 ng = oct_decode(d, hn::Load(du, in.geometric_normal + s));
   const V3 n = oct_decode(d, hn::Load(du, in.shading_normal + s));
-  const V3 wo = normalize(d, {hn::Sub(hn::Set(d, eye.x), p.x), hn::Sub(hn::Set(d, eye.y), p.y),
-                              hn::Sub(hn::Set(d, eye.z), p.z)});
+  const V3 wo =
+      normalize(d, {hn::Sub(hn::Set(d, eye.x), p.x), hn::Sub(hn::Set(d, eye.y), p.y), hn::Sub(hn::Set(d, eye.z), p.z)});
   store3(d, p, out.px, out.py, out.pz, s);
   store3(d, ng, out.gx, out.gy, out.gz, s);
   store3(d, wo, out.wox, out.woy, out.woz, s);
@@ -111,10 +109,9 @@ void build(D d, const SurfaceLanes& in, const vec3& eye, int s, ReceiverLanes& o
   hn::Store(zero, d, t.g1_o + s), hn::Store(zero, d, t.p_specular + s);
   for (int c = 0; c < 3; ++c) {
     const V f0 = hn::Add(hn::Mul(d_f0, one_minus_m), hn::Mul(base[c], m));
-    const V f_ms = hn::IfThenElse(hn::Gt(m, zero),
-                                  hn::Add(hn::Mul(d_ms, one_minus_m),
-                                          hn::Mul(multiple_scattering_fresnel(d, base[c], one, avg_a), m)),
-                                  d_ms);
+    const V f_ms = hn::IfThenElse(
+        hn::Gt(m, zero),
+        hn::Add(hn::Mul(d_ms, one_minus_m), hn::Mul(multiple_scattering_fresnel(d, base[c], one, avg_a), m)), d_ms);
     const V base_lobe = hn::Mul(base[c], one_minus_m);
     const V base_scale =
         hn::IfThenZeroElse(layer_opaque, hn::Div(hn::Mul(base_lobe, hn::Set(d, kInvPi)), base_denominator));

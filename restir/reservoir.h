@@ -15,11 +15,11 @@ namespace candela {
 
 template <class Sample>
 struct Reservoir {
-  Sample y{};          // the kept sample
-  float p_hat_y = 0.0f;// target function at y, for the domain that resampled it
-  float w_sum = 0.0f;  // sum of resampling weights seen
-  float M = 0.0f;      // confidence: how many candidates the reservoir stands for (capped by callers)
-  float W = 0.0f;      // unbiased contribution weight of y, set by finalize()
+  Sample y{};            // the kept sample
+  float p_hat_y = 0.0f;  // target function at y, for the domain that resampled it
+  float w_sum = 0.0f;    // sum of resampling weights seen
+  float M = 0.0f;        // confidence: how many candidates the reservoir stands for (capped by callers)
+  float W = 0.0f;        // unbiased contribution weight of y, set by finalize()
 
   // Streams one candidate with resampling weight w (>= 0) and target p_hat_x; u uniform in [0, 1).
   // Returns whether it was kept.

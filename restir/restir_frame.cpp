@@ -41,16 +41,16 @@ static void drop_occluded_samples(const std::vector<DiVisibility>& visibility, s
 // when given; the shade stage also drops occluded samples, with drop_occluded); the final reservoirs and
 // shadow-ray verdicts become the chain's history, by swapping buffers (every stage rewrites its output
 // buffer whole, so nothing stale survives the swap).
-void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
-                             const DiReuseParams& reuse, int key, int pass, const std::vector<vec3>* unsampled,
-                             ReservoirChain& chain, FrameStats& stats, Image& sum) {
+void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame,
+                             const std::string& prefix, const DiReuseParams& reuse, int key, int pass,
+                             const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats, Image& sum) {
   const DiDomain current = current_domain(frame, g), previous = previous_domain(frame, g);
   std::vector<DiReservoir>* result = &chain.initial;
   const bool temporal = reuse.temporal && pass == 0 && chain.history.size() == g.size();
   if (temporal) {
     StageTimer timer(stats, prefix + "_temporal");
-    di_temporal_reuse(view, g, current, previous, *result, chain.history, reuse, key, chain.temporal, chain.history_pixel,
-                      timer.rays());
+    di_temporal_reuse(view, g, current, previous, *result, chain.history, reuse, key, chain.temporal,
+                      chain.history_pixel, timer.rays());
     result = &chain.temporal;
   }
   if (temporal && reuse.boiling_threshold > 0.0f) {
@@ -59,14 +59,15 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
   }
   for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
     StageTimer timer(stats, prefix + "_spatial");
-    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr, chain.spatial[k % 2],
-                     timer.rays());
+    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr,
+                     chain.spatial[k % 2], timer.rays());
     result = &chain.spatial[k % 2];
   }
   {
     StageTimer timer(stats, prefix + "_shade");
     std::swap(chain.visibility, chain.prev_visibility);
-    DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr, &chain.prev_visibility};
+    DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr,
+                                 &chain.prev_visibility};
     di_shade(view, g, *result, unsampled, visibility, chain.visibility, sum, timer.rays(), timer.non_finite());
     if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);
   }

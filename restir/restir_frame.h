@@ -25,12 +25,12 @@ struct ReservoirChain {
 };
 
 struct RestirSettings {
-  DiParams di;              // initial candidates
-  DiReuseParams di_reuse;   // DI's temporal and spatial reuse
-  DiReuseParams gi_reuse;   // GI's
-  GiParams gi;              // GI's samples (paths)
-  bool with_gi = false;     // restir: GI too; restir-di: DI alone
-  bool gi_only = false;     // with_gi: shade the indirect light alone (tests compare it with a reference)
+  DiParams di;             // initial candidates
+  DiReuseParams di_reuse;  // DI's temporal and spatial reuse
+  DiReuseParams gi_reuse;  // GI's
+  GiParams gi;             // GI's samples (paths)
+  bool with_gi = false;    // restir: GI too; restir-di: DI alone
+  bool gi_only = false;    // with_gi: shade the indirect light alone (tests compare it with a reference)
   uint64_t seed = 1;
 };
 

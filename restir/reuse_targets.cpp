@@ -15,11 +15,14 @@ namespace {
 // where the input has no sample and for punctual lights (left to the scalar path).
 void set_placed(const Scene& scene, const DiReuseInput& in, const LightList& lights, int s, CandidateLanes& plane) {
   const DiSample& y = in.reservoir->y;
-  if (in.reservoir->W <= 0.0f) plane.clear(s);
+  if (in.reservoir->W <= 0.0f)
+    plane.clear(s);
   else if (y.light == kSurfacePointSample || (&in.domain->lights == &lights && y.light < lights.triangle_count()))
     plane.set(s, y.point);
-  else if (y.light < lights.triangle_count()) plane.set(s, lights.triangle_point(scene, y.light, y.uv));
-  else plane.clear(s);
+  else if (y.light < lights.triangle_count())
+    plane.set(s, lights.triangle_point(scene, y.light, y.uv));
+  else
+    plane.clear(s);
 }
 
 static_assert(kLaneSlots <= 64, "a row's slots fit the bits of a uint64_t");
@@ -40,8 +43,10 @@ void targets_at_combiners(const Scene& scene, const DiDomain& here, int slots, i
     const DiReuseInput* in = row.inputs[s];
     planes.surfaces.set(s, here.surfaces[row.count[s] > 0 ? in[0].pixel : 0]);
     for (int k = 1; k < max_count; ++k) {
-      if (k < row.count[s]) set_placed(scene, in[k], here.lights, s, planes.inputs[k]);
-      else planes.inputs[k].clear(s);
+      if (k < row.count[s])
+        set_placed(scene, in[k], here.lights, s, planes.inputs[k]);
+      else
+        planes.inputs[k].clear(s);
     }
   }
   build_receiver_lanes(planes.surfaces, here.eye, slots, planes.combiners);
@@ -79,8 +84,10 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
     }
     if (own_placed_by != &domain->lights) {
       for (int s = 0; s < slots; ++s) {
-        if (row.count[s] > 1) set_placed(view.scene, row.inputs[s][0], domain->lights, s, planes.own);
-        else planes.own.clear(s);
+        if (row.count[s] > 1)
+          set_placed(view.scene, row.inputs[s][0], domain->lights, s, planes.own);
+        else
+          planes.own.clear(s);
       }
       own_placed_by = &domain->lights;
     }

@@ -1,7 +1,8 @@
 // The candidate-lanes kernel (target_lanes.h), compiled once per instruction set by Highway's
 // foreach_target.h and dispatched at run time (helpers shared with the receiver kernel: lanes-inl.h).
-// Each step names the scalar function whose arithmetic it repeats, in the same order (restir/di.h di_contribution, engine/lights.h light_sample_towards,
-// engine/bsdf.cpp Bsdf::eval and Bsdf::pdf, engine/ggx_albedo.h GgxAlbedoRow::at).
+// Each step names the scalar function whose arithmetic it repeats, in the same order (restir/di.h di_contribution,
+// engine/lights.h light_sample_towards, engine/bsdf.cpp Bsdf::eval and Bsdf::pdf, engine/ggx_albedo.h
+// GgxAlbedoRow::at).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "restir/target_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -33,14 +34,13 @@ void eval_bsdf(D d, const ReceiverLanes::BsdfPlanes& t, int s, const V3& wo, con
   const V cos_o = hn::Load(d, t.cos_o + s), cos_i = dot(n, wi);
   const M lit = hn::And(hn::Gt(cos_o, zero), hn::Gt(cos_i, zero));
   const V cos_oi = dot(wo, wi);
-  const V inv_len = hn::Div(one, hn::Sqrt(hn::Max(hn::Add(hn::Set(d, 2.0f), hn::Mul(hn::Set(d, 2.0f), cos_oi)),
-                                                  hn::Set(d, 1e-12f))));
+  const V inv_len =
+      hn::Div(one, hn::Sqrt(hn::Max(hn::Add(hn::Set(d, 2.0f), hn::Mul(hn::Set(d, 2.0f), cos_oi)), hn::Set(d, 1e-12f))));
   const V m = hn::Sub(one, hn::Min(hn::Max(hn::Mul(hn::Add(one, cos_oi), inv_len), zero), one));
   const V m2 = hn::Mul(m, m), w5 = hn::Mul(hn::Mul(m2, m2), m);
   const V alpha = hn::Load(d, t.alpha + s), a2 = hn::Mul(alpha, alpha);
   const V s_i = hn::Sqrt(hn::Add(hn::Mul(hn::Mul(cos_i, cos_i), hn::Sub(one, a2)), a2));
-  const V visibility =
-      hn::Div(hn::Set(d, 0.5f), hn::Add(hn::Mul(cos_i, hn::Load(d, t.s_o + s)), hn::Mul(cos_o, s_i)));
+  const V visibility = hn::Div(hn::Set(d, 0.5f), hn::Add(hn::Mul(cos_i, hn::Load(d, t.s_o + s)), hn::Mul(cos_o, s_i)));
   const V3 hv{hn::Add(wo.x, wi.x), hn::Add(wo.y, wi.y), hn::Add(wo.z, wi.z)};
   const V dv = hn::Mul(ggx_d_half_vector(d, n, hv, alpha), visibility);
   V e_a, e_b;
@@ -99,8 +99,8 @@ void evaluate(D d, const ReceiverLanes& r, CandidateLanes& c, int s, bool with_b
   const V p_hat = hn::Add(hn::Add(hn::Mul(hn::Set(d, 0.2126f), value[0]), hn::Mul(hn::Set(d, 0.7152f), value[1])),
                           hn::Mul(hn::Set(d, 0.0722f), value[2]));
   hn::Store(hn::IfThenElseZero(valid, p_hat), d, c.p_hat + s);
-  const V area_pdf = with_bsdf_pdf ? hn::Div(hn::Mul(bsdf_pdf(d, r.exact, s, wo, wi), hn::Abs(cos_l)), hn::Mul(dist, dist))
-                                   : zero;
+  const V area_pdf =
+      with_bsdf_pdf ? hn::Div(hn::Mul(bsdf_pdf(d, r.exact, s, wo, wi), hn::Abs(cos_l)), hn::Mul(dist, dist)) : zero;
   hn::Store(hn::IfThenElseZero(valid, area_pdf), d, c.bsdf_area_pdf + s);
 }
 

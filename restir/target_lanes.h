@@ -50,7 +50,7 @@ struct CandidateLanes {
   alignas(64) float two_sided[kLaneSlots], active[kLaneSlots];
   alignas(64) float p_hat[kLaneSlots], bsdf_area_pdf[kLaneSlots];
   void set(int slot, const LightPoint& point);
-  void clear(int slot);  // not a triangle-light point: p_hat and density left to the caller
+  void clear(int slot);              // not a triangle-light point: p_hat and density left to the caller
   LightPoint point(int slot) const;  // the point set() stored
 };
 

@@ -15,9 +15,13 @@ LightBounds merge(const LightBounds& a, const LightBounds& b) {
   // Sphere union.
   vec3 d = b.center - a.center;
   float dist = glm::length(d);
-  if (dist + b.radius <= a.radius) { m.center = a.center; m.radius = a.radius; }
-  else if (dist + a.radius <= b.radius) { m.center = b.center; m.radius = b.radius; }
-  else {
+  if (dist + b.radius <= a.radius) {
+    m.center = a.center;
+    m.radius = a.radius;
+  } else if (dist + a.radius <= b.radius) {
+    m.center = b.center;
+    m.radius = b.radius;
+  } else {
     m.radius = 0.5f * (dist + a.radius + b.radius);
     m.center = a.center + d * ((m.radius - a.radius) / dist);
   }
@@ -86,7 +90,8 @@ float cone_measure(float cos_theta_o, float cos_theta_e) {
   float theta_w = std::min(theta_o + theta_e, kPi);
   float sin_o = std::sin(theta_o);
   return 2.0f * kPi * (1.0f - cos_theta_o) +
-         0.5f * kPi * (2.0f * theta_w * sin_o - std::cos(theta_o - 2.0f * theta_w) - 2.0f * theta_o * sin_o + cos_theta_o);
+         0.5f * kPi *
+             (2.0f * theta_w * sin_o - std::cos(theta_o - 2.0f * theta_w) - 2.0f * theta_o * sin_o + cos_theta_o);
 }
 
 }  // namespace candela

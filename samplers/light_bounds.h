@@ -18,9 +18,9 @@ struct LightBounds {
   vec3 center{0.0f};
   float radius = 0.0f;
   vec3 w{0.0f, 0.0f, 1.0f};
-  float phi = 0.0f;            // total power (luminance)
+  float phi = 0.0f;  // total power (luminance)
   float cos_theta_o = 1.0f, sin_theta_o = 0.0f;
-  float cos_theta_e = 0.0f;    // 0: emits over the hemisphere around its normal (area lights)
+  float cos_theta_e = 0.0f;  // 0: emits over the hemisphere around its normal (area lights)
   uint32_t two_sided = 0;
 
   bool empty() const { return phi <= 0.0f; }
@@ -30,7 +30,10 @@ struct LightBounds {
   // (centre - q), which the grown sphere holds, so a light that can reach some point of the region keeps
   // a positive importance.
   float importance(const ShadingContext& ctx) const;
-  void set_cos_theta_o(float c) { cos_theta_o = std::clamp(c, -1.0f, 1.0f); sin_theta_o = std::sqrt(1.0f - cos_theta_o * cos_theta_o); }
+  void set_cos_theta_o(float c) {
+    cos_theta_o = std::clamp(c, -1.0f, 1.0f);
+    sin_theta_o = std::sqrt(1.0f - cos_theta_o * cos_theta_o);
+  }
 };
 
 // Bounds of both: the sphere around both spheres, a cone around the power-weighted mean axis that holds

@@ -1,6 +1,5 @@
 #include "samplers/light_tree.h"
 
-
 #include <algorithm>
 
 #include "engine/check.h"
@@ -64,7 +63,9 @@ struct BoundsAccumulator {
     count += o.count;
   }
   // Cone spread guessed from how well the members' axes agree (|mean axis|), for split costs only.
-  float estimated_cos_theta_o() const { return std::clamp(2.0f * glm::length(axis_sum) / std::max(phi, 1e-20f) - 1.0f, -1.0f, 1.0f); }
+  float estimated_cos_theta_o() const {
+    return std::clamp(2.0f * glm::length(axis_sum) / std::max(phi, 1e-20f) - 1.0f, -1.0f, 1.0f);
+  }
 };
 
 // Exact bounds of entries [first, last): sphere around their box, and the cone spread measured from the
@@ -136,7 +137,11 @@ size_t saoh_partition(std::vector<Entry>& entries, size_t begin, size_t end, con
       for (int b = split; b < kBuckets; ++b) right.add(bucket[b]);
       if (!left.count || !right.count) continue;
       float cost = saoh_cost(left, regularization) + saoh_cost(right, regularization);
-      if (cost < best_cost) { best_cost = cost; best_axis = axis; best_split = split; }
+      if (cost < best_cost) {
+        best_cost = cost;
+        best_axis = axis;
+        best_split = split;
+      }
     }
   }
   if (best_axis < 0) return begin;
@@ -149,7 +154,8 @@ size_t saoh_partition(std::vector<Entry>& entries, size_t begin, size_t end, con
 // parent, the second after the first child's 2m - 1 nodes (m lights), which fixes every index in advance
 // so that subtrees build in parallel. Deeper than level 32, and in nodes of kSaohMinLights lights or fewer, it
 // halves by count, so depth stays < 64.
-void build_binary(std::vector<BinaryNode>& nodes, std::vector<Entry>& entries, size_t begin, size_t end, uint32_t node, int depth) {
+void build_binary(std::vector<BinaryNode>& nodes, std::vector<Entry>& entries, size_t begin, size_t end, uint32_t node,
+                  int depth) {
   if (end - begin == 1) {
     nodes[node] = {entries[begin].bounds, entries[begin].light, true};
     return;
@@ -165,19 +171,21 @@ void build_binary(std::vector<BinaryNode>& nodes, std::vector<Entry>& entries, s
     // No SAOH split (a small or deep node, or coincident centroids): halve by count along the widest axis.
     mid = begin + (end - begin) / 2;
     int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
-    std::nth_element(entries.begin() + begin, entries.begin() + mid, entries.begin() + end, [&](const Entry& a, const Entry& b) {
-      return a.box.center()[axis] < b.box.center()[axis];
-    });
+    std::nth_element(entries.begin() + begin, entries.begin() + mid, entries.begin() + end,
+                     [&](const Entry& a, const Entry& b) { return a.box.center()[axis] < b.box.center()[axis]; });
   }
   CHECK(depth < kMaxDepth);
   uint32_t second = node + 2 * uint32_t(mid - begin);
   nodes[node].index = second;
   auto first = [&] { build_binary(nodes, entries, begin, mid, node + 1, depth + 1); };
   auto other = [&] { build_binary(nodes, entries, mid, end, second, depth + 1); };
-  if (end - begin > kParallelGrain) parallel_invoke(first, other);
-  else { first(); other(); }
+  if (end - begin > kParallelGrain)
+    parallel_invoke(first, other);
+  else {
+    first();
+    other();
+  }
 }
-
 
 // The children of the wide node over the binary subtree at `node` (binary nodes [node, end)): its two
 // children, then, again and again, the child with the most lights opened into its two, until there are 8
@@ -201,7 +209,8 @@ int open_slots(const std::vector<BinaryNode>& binary, uint32_t node, uint32_t en
       if (!binary[slots[k].node].leaf && (largest < 0 || slots[k].lights() > slots[largest].lights())) largest = k;
     // A child of at most 8 lights stays whole (it becomes one node of leaves) unless this node can hold all of
     // its lights: opening it further would leave nodes of 2 or 3 children below.
-    if (largest < 0 || (slots[largest].lights() <= uint32_t(kTreeWidth) && Span{node, end}.lights() > uint32_t(kTreeWidth)))
+    if (largest < 0 ||
+        (slots[largest].lights() <= uint32_t(kTreeWidth) && Span{node, end}.lights() > uint32_t(kTreeWidth)))
       break;
     open(largest);
   }
@@ -220,7 +229,8 @@ uint32_t count_wide_nodes(const std::vector<BinaryNode>& binary, uint32_t node, 
 
 }  // namespace
 
-InfiniteLightChoice::InfiniteLightChoice(std::vector<uint32_t> indices, bool has_finite) : indices_(std::move(indices)) {
+InfiniteLightChoice::InfiniteLightChoice(std::vector<uint32_t> indices, bool has_finite)
+    : indices_(std::move(indices)) {
   std::sort(indices_.begin(), indices_.end());
   if (!indices_.empty()) probability_ = has_finite ? float(indices_.size()) / float(indices_.size() + 1) : 1.0f;
 }
@@ -242,7 +252,10 @@ LightTreeSampler::LightTreeSampler(const LightList& lights) {
   std::vector<uint32_t> infinite;
   slot_of_.assign(lights.size(), kNoSlot);
   for (uint32_t i = 0; i < lights.size(); ++i) {
-    if (is_infinite_light(lights, i)) { infinite.push_back(i); continue; }
+    if (is_infinite_light(lights, i)) {
+      infinite.push_back(i);
+      continue;
+    }
     Bounds3 box;
     LightBounds b = light_bounds(lights, i, &box);
     if (b.phi > 0.0f) entries.push_back({i, b, box});
@@ -264,7 +277,8 @@ LightTreeSampler::LightTreeSampler(const LightList& lights) {
 
 // The wide node over the binary subtree at `node` (open_slots), with its children's exact bounds from the
 // binary tree; nodes are numbered depth first.
-uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up, int depth) {
+uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up,
+                                    int depth) {
   Span slots[kTreeWidth];
   const int count = open_slots(binary, node, end, slots);
   CHECK(depth < kMaxDepth);
@@ -279,8 +293,10 @@ uint32_t LightTreeSampler::collapse(const std::vector<BinaryNode>& binary, uint3
     nodes_[index].bounds.set(k, b.bounds);
     const uint32_t ref = index * kTreeWidth + uint32_t(k);
     uint32_t child = kLeaf | b.index;
-    if (b.leaf) slot_of_[b.index] = ref;
-    else child = collapse(binary, slots[k].node, slots[k].end, ref, depth + 1);
+    if (b.leaf)
+      slot_of_[b.index] = ref;
+    else
+      child = collapse(binary, slots[k].node, slots[k].end, ref, depth + 1);
     nodes_[index].child[k] = child;
   }
   return index;
@@ -405,8 +421,10 @@ LightBounds LightTreeSampler::refit(const LightList& lights, uint32_t node) {
     n.bounds.set(int(k), slot[k]);
   };
   const uint32_t count = uint32_t(n.count());
-  if (subtree_lights_[node] > kParallelGrain) parallel_for(0u, count, one);
-  else for (uint32_t k = 0; k < count; ++k) one(k);
+  if (subtree_lights_[node] > kParallelGrain)
+    parallel_for(0u, count, one);
+  else
+    for (uint32_t k = 0; k < count; ++k) one(k);
   LightBounds all = slot[0];
   for (uint32_t k = 1; k < count; ++k) all = merge(all, slot[k]);
   return all;
@@ -417,7 +435,10 @@ ExhaustiveLightSampler::ExhaustiveLightSampler(const LightList& lights) {
   std::vector<uint32_t> infinite;
   bool has_finite = false;
   for (uint32_t i = 0; i < lights.size(); ++i) {
-    if (is_infinite_light(lights, i)) { infinite.push_back(i); continue; }
+    if (is_infinite_light(lights, i)) {
+      infinite.push_back(i);
+      continue;
+    }
     bounds_[i] = light_bounds(lights, i);
     has_finite = has_finite || bounds_[i].phi > 0.0f;
   }

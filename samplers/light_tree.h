@@ -78,7 +78,8 @@ class LightTreeSampler {
   static_assert(sizeof(Node) == 384 && kTreeWidth == 8);
   // Builds the wide nodes from the binary tree's subtree at `node` (occupying binary nodes [node, end));
   // returns the new node's index. `up` is the parent's slot reference (node * 8 + slot).
-  uint32_t collapse(const std::vector<light_tree_detail::BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up, int depth);
+  uint32_t collapse(const std::vector<light_tree_detail::BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up,
+                    int depth);
   LightBounds refit(const LightList& lights, uint32_t node);
   // The weights a level chooses a child by: the importances of the node's children for the shading point,
   // or, where all are zero (a node's bounds are looser than its children's), their powers, or 1 for each
@@ -94,11 +95,11 @@ class LightTreeSampler {
   SampledLight descend(double u, WeightsOf&& weights_of) const;
 
   std::vector<Node> nodes_;
-  LightBounds root_;                // bounds of all finite lights
+  LightBounds root_;  // bounds of all finite lights
   InfiniteLightChoice infinite_;
-  std::vector<uint32_t> parent_;    // per node: the slot reference (node * 8 + slot) that points to it
+  std::vector<uint32_t> parent_;          // per node: the slot reference (node * 8 + slot) that points to it
   std::vector<uint32_t> subtree_lights_;  // per node: lights below it (refit's parallel split)
-  std::vector<uint32_t> slot_of_;   // per light: its slot reference (none for infinite and powerless lights)
+  std::vector<uint32_t> slot_of_;         // per light: its slot reference (none for infinite and powerless lights)
   int max_depth_ = 0;
 };
 

@@ -8,7 +8,8 @@ static constexpr size_t kMaxLights = size_t(1) << 24;
 
 static void check_light_count(size_t n) {
   if (n > kMaxLights)
-    throw InputError("the scene has " + std::to_string(n) + " lights; uniform and power light selection support at most 16777216");
+    throw InputError("the scene has " + std::to_string(n) +
+                     " lights; uniform and power light selection support at most 16777216");
 }
 
 UniformLightSampler::UniformLightSampler(const LightList& lights) : count_(uint32_t(lights.size())) {
@@ -23,7 +24,10 @@ PowerLightSampler::PowerLightSampler(const LightList& lights) {
   std::vector<double> w(n);
   double total = 0.0;
   for (size_t i = 0; i < n; ++i) total += w[i] = std::max(0.0f, lights.power(i));
-  if (total <= 0.0) { std::fill(w.begin(), w.end(), 1.0); total = double(n); }
+  if (total <= 0.0) {
+    std::fill(w.begin(), w.end(), 1.0);
+    total = double(n);
+  }
   pmf_.resize(n);
   bins_.resize(n);
   std::vector<double> scaled(n);
@@ -38,7 +42,10 @@ PowerLightSampler::PowerLightSampler(const LightList& lights) {
     small.pop_back();
     bins_[s] = {float(scaled[s]), l};
     scaled[l] -= 1.0 - scaled[s];
-    if (scaled[l] < 1.0) { large.pop_back(); small.push_back(l); }
+    if (scaled[l] < 1.0) {
+      large.pop_back();
+      small.push_back(l);
+    }
   }
   for (uint32_t i : large) bins_[i] = {1.0f, i};
   for (uint32_t i : small) bins_[i] = {1.0f, i};  // round-off leftovers

@@ -41,14 +41,16 @@ void check_stats(const std::string& file, int frames, const std::vector<std::str
   std::ifstream in(file);
   nlohmann::json json = nlohmann::json::parse(in, nullptr, false);
   if (json.is_discarded() || !json.is_array()) return problem(file, "not a JSON array");
-  if (int(json.size()) != frames) problem(file, std::to_string(json.size()) + " frames, expected " + std::to_string(frames));
+  if (int(json.size()) != frames)
+    problem(file, std::to_string(json.size()) + " frames, expected " + std::to_string(frames));
   for (size_t k = 0; k < json.size(); ++k) {
     const nlohmann::json& f = json[k];
     const std::string where = "frame " + std::to_string(k) + ": ";
     if (f.value("frame", -1) != int(k)) problem(file, where + "numbered " + f.value("frame", nlohmann::json()).dump());
     if (f.value("spp", 0) < 1) problem(file, where + "spp " + f.value("spp", nlohmann::json()).dump());
     if (f.value("rays", 0.0) <= 0.0) problem(file, where + "no rays counted");
-    if (f.value("non_finite", -1) != 0) problem(file, where + "non_finite " + f.value("non_finite", nlohmann::json()).dump());
+    if (f.value("non_finite", -1) != 0)
+      problem(file, where + "non_finite " + f.value("non_finite", nlohmann::json()).dump());
     for (std::string name : stages) {
       const bool needs_history = name[0] == '+';
       if (needs_history) name.erase(0, 1);
@@ -72,8 +74,8 @@ void check_image(const std::string& file, int width, int height, float min) {
     return problem(file, e.what());
   }
   if (image.width != width || image.height != height)
-    problem(file, std::to_string(image.width) + "x" + std::to_string(image.height) + ", expected " + std::to_string(width) +
-                      "x" + std::to_string(height));
+    problem(file, std::to_string(image.width) + "x" + std::to_string(image.height) + ", expected " +
+                      std::to_string(width) + "x" + std::to_string(height));
   size_t bad = 0, lit = 0;
   for (const vec3& p : image.pixels) {
     bad += !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.x >= min && p.y >= min && p.z >= min);

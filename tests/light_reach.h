@@ -51,7 +51,8 @@ size_t expect_no_dropped_lights_in(const Sampler& sampler, const LightList& ligh
 
 // Every light that can reach a receiver has non-zero pmf there; returns how many pairs were checked.
 template <class Sampler>
-size_t expect_no_dropped_lights(const Sampler& sampler, const LightList& lights, const std::vector<ShadingContext>& points) {
+size_t expect_no_dropped_lights(const Sampler& sampler, const LightList& lights,
+                                const std::vector<ShadingContext>& points) {
   size_t checked = 0;
   for (const ShadingContext& p : points) checked += expect_no_dropped_lights_in(sampler, lights, p, {p});
   return checked;

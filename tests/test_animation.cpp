@@ -38,7 +38,8 @@ TEST(Track, LinearInterpolatesAndClamps) {
 }
 
 // Catmull-Rom passes through every key, reproduces a straight line exactly (keys on a line, uneven
-// spacing), and its derivative is continuous across a key (one-sided differences over 2e-4 agree to 0.01: curvature times step plus float rounding).
+// spacing), and its derivative is continuous across a key (one-sided differences over 2e-4 agree to 0.01: curvature
+// times step plus float rounding).
 TEST(Track, SmoothPassesThroughKeysAndIsC1) {
   Track<float> line = track({0.0f, 1.0f, 3.0f, 4.0f}, {1.0f, 3.0f, 7.0f, 9.0f}, Interpolation::Smooth);
   for (float t : {0.0f, 0.3f, 1.0f, 2.2f, 3.7f, 4.0f}) EXPECT_NEAR(line.at(t), 1.0f + 2.0f * t, 1e-5f) << t;
@@ -85,8 +86,10 @@ TEST(PowerAnimation, ScalesPunctualIntensityAndMaterialEmission) {
   Scene scene;
   scene.punctual_lights.push_back(PunctualLight{});
   scene.materials.push_back(Material{});
-  PowerAnimation light{PowerAnimation::Target::Punctual, 0, vec3(2.0f), track({0.0f, 1.0f}, {1.0f, 3.0f}, Interpolation::Linear)};
-  PowerAnimation glow{PowerAnimation::Target::Material, 0, vec3(1.0f, 0.5f, 0.0f), track({0.0f}, {4.0f}, Interpolation::Step)};
+  PowerAnimation light{PowerAnimation::Target::Punctual, 0, vec3(2.0f),
+                       track({0.0f, 1.0f}, {1.0f, 3.0f}, Interpolation::Linear)};
+  PowerAnimation glow{PowerAnimation::Target::Material, 0, vec3(1.0f, 0.5f, 0.0f),
+                      track({0.0f}, {4.0f}, Interpolation::Step)};
   scene.power_animations = {light, glow};
   EXPECT_TRUE(scene.animated());
   scene.set_time(0.5f);

@@ -50,7 +50,10 @@ TEST_P(BsdfSampling, SampleFrequenciesMatchPdf) {
   int failed = 0;
   for (int i = 0; i < n; ++i) {
     BsdfSample s;
-    if (!bsdf.sample(wo, vec2(rng.next_float(), rng.next_float()), rng.next_float(), s)) { ++failed; continue; }
+    if (!bsdf.sample(wo, vec2(rng.next_float(), rng.next_float()), rng.next_float(), s)) {
+      ++failed;
+      continue;
+    }
     ASSERT_NEAR(s.pdf, bsdf.pdf(wo, s.wi), 1e-4f * s.pdf);
     float phi = std::atan2(s.wi.y, s.wi.x);
     if (phi < 0.0f) phi += 2.0f * kPi;
@@ -76,18 +79,26 @@ TEST_P(BsdfSampling, SampleFrequenciesMatchPdf) {
   double chi2 = 0.0, pooled_obs = 0.0, pooled_exp = 0.0;
   int bins = 0;
   for (size_t k = 0; k < observed.size(); ++k) {
-    if (expected[k] < 5.0) { pooled_obs += observed[k]; pooled_exp += expected[k]; continue; }
+    if (expected[k] < 5.0) {
+      pooled_obs += observed[k];
+      pooled_exp += expected[k];
+      continue;
+    }
     chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
     ++bins;
   }
-  if (pooled_exp >= 5.0) { chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp; ++bins; }
+  if (pooled_exp >= 5.0) {
+    chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
+    ++bins;
+  }
   double p = testing::chi_square_p_value(chi2, bins - 1);
   EXPECT_GT(p, 1e-3) << "chi2 " << chi2 << " over " << bins << " bins";
 }
 
 INSTANTIATE_TEST_SUITE_P(Lobes, BsdfSampling,
-                         ::testing::Values(BsdfCase{1.0f, 0.0f, 0.8f}, BsdfCase{0.5f, 0.0f, 0.5f}, BsdfCase{0.3f, 1.0f, 0.9f},
-                                           BsdfCase{0.5f, 1.0f, 0.2f}, BsdfCase{0.7f, 0.5f, 0.6f}));
+                         ::testing::Values(BsdfCase{1.0f, 0.0f, 0.8f}, BsdfCase{0.5f, 0.0f, 0.5f},
+                                           BsdfCase{0.3f, 1.0f, 0.9f}, BsdfCase{0.5f, 1.0f, 0.2f},
+                                           BsdfCase{0.7f, 0.5f, 0.6f}));
 
 // A Lambert lobe of albedo 1 (specular factor 0) reflects all energy at every angle, within 4 standard errors.
 TEST(Bsdf, LambertFurnaceIntegratesToOne) {
@@ -167,7 +178,7 @@ TEST(Bsdf, SpecularFactorZeroIsExactlyLambert) {
 TEST(Bsdf, DielectricF0FromIorAndSpecularColour) {
   EXPECT_NEAR(dielectric_f0(1.5f, vec3(1.0f)).x, 0.04f, 1e-7f);
   EXPECT_NEAR(dielectric_f0(1.33f, vec3(1.0f)).x, 0.0200593f, 1e-6f);
-  EXPECT_EQ(dielectric_f0(0.0f, vec3(1.0f)), vec3(1.0f));           // ior 0: total reflection
+  EXPECT_EQ(dielectric_f0(0.0f, vec3(1.0f)), vec3(1.0f));        // ior 0: total reflection
   vec3 clamped = dielectric_f0(1.5f, vec3(0.0f, 1.0f, 100.0f));  // at most 1
   EXPECT_EQ(clamped.x, 0.0f);
   EXPECT_NEAR(clamped.y, 0.04f, 1e-7f);
@@ -203,14 +214,16 @@ TEST(GgxAlbedo, TableMatchesIntegral) {
         sum2 += v * v;
       }
       double mean = sum / n, err = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
-      EXPECT_NEAR(GgxAlbedoRow(roughness).at(ct).a, mean, 4.0 * err + 0.002) << "roughness " << roughness << " cos " << ct;
+      EXPECT_NEAR(GgxAlbedoRow(roughness).at(ct).a, mean, 4.0 * err + 0.002)
+          << "roughness " << roughness << " cos " << ct;
     }
 }
 
 TEST(Bsdf, Reciprocity) {
   Rng rng(9, 9);
   for (int i = 0; i < 2000; ++i) {
-    Bsdf b(vec3(0, 0, 1), vec3(rng.next_float(), rng.next_float(), rng.next_float()), rng.next_float(), 0.05f + rng.next_float());
+    Bsdf b(vec3(0, 0, 1), vec3(rng.next_float(), rng.next_float(), rng.next_float()), rng.next_float(),
+           0.05f + rng.next_float());
     vec3 a = direction(rng.next_float(), 2.0f * kPi * rng.next_float());
     vec3 c = direction(rng.next_float(), 2.0f * kPi * rng.next_float());
     vec3 f1 = b.eval(a, c), f2 = b.eval(c, a);

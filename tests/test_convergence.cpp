@@ -63,7 +63,8 @@ class Convergence : public ::testing::Test {
   }
   // Method `name` at N = 1, 2, 4, ..., max_samples; `run` picks the seed; `last_image` receives the image
   // at N = max_samples.
-  static std::vector<ConvergePoint> run(const std::string& name, int max_samples, int run = 0, Image* last_image = nullptr) {
+  static std::vector<ConvergePoint> run(const std::string& name, int max_samples, int run = 0,
+                                        Image* last_image = nullptr) {
     const ConvergeMethod& m = converge_method_named(name);
     RenderSettings settings = *base_;
     settings.seed += uint64_t(run);
@@ -125,10 +126,11 @@ TEST_F(Convergence, IndependentSamplesFallAsOneOverN) {
     const double reference_mean = image_mean(ref);
     for (ConvergePoint& p : mean) p.error.mse /= runs;
     double slope = mse_slope(mean, 4, 64);
-    std::printf("%-15s MSE slope over N = 4..64: %.3f; at N = 64 against the %s-sampler reference: mean difference %+.2e "
-                "(%+.2f%% of %.4f), standard error %.2e (%.2f standard errors)\n",
-                name, slope, name_of(light_sampler_names(), reference_light_sampler(method, *base_)).c_str(), difference,
-                100.0 * difference / reference_mean, reference_mean, standard_error, difference / standard_error);
+    std::printf(
+        "%-15s MSE slope over N = 4..64: %.3f; at N = 64 against the %s-sampler reference: mean difference %+.2e "
+        "(%+.2f%% of %.4f), standard error %.2e (%.2f standard errors)\n",
+        name, slope, name_of(light_sampler_names(), reference_light_sampler(method, *base_)).c_str(), difference,
+        100.0 * difference / reference_mean, reference_mean, standard_error, difference / standard_error);
     EXPECT_GE(slope, -1.2) << name;
     EXPECT_LE(slope, -0.8) << name;
     EXPECT_LT(std::abs(difference), 4.0 * standard_error) << name;
@@ -149,8 +151,10 @@ TEST_F(Convergence, RestirDiFallsAsOneOverNBeyondItsHistory) {
     std::vector<ConvergePoint> points = run(name, 1024);
     double early = mse_slope(points, 4, 64), late = mse_slope(points, 64, 1024);
     const ImageError& e = points.back().error;
-    std::printf("%-18s MSE slope over N = 4..64: %.3f, over 64..1024: %.3f; at N = 1024 mean difference %+.2e (%.2f%% of "
-                "the mean)\n", name, early, late, e.mean_difference, 100.0 * e.mean_difference / reference_mean);
+    std::printf(
+        "%-18s MSE slope over N = 4..64: %.3f, over 64..1024: %.3f; at N = 1024 mean difference %+.2e (%.2f%% of "
+        "the mean)\n",
+        name, early, late, e.mean_difference, 100.0 * e.mean_difference / reference_mean);
     EXPECT_GE(late, -1.2) << name;
     EXPECT_LE(late, -0.8) << name;
     EXPECT_LT(std::abs(e.mean_difference), 0.01 * reference_mean) << name;

@@ -29,8 +29,8 @@ RenderSettings noisy_settings(uint64_t seed) {
   s.method = Method::Direct;
   s.spp = 1;
   s.seed = seed;
-  s.jitter = false;       // G-buffer rays through pixel centres, as for the reference
-  s.accumulate = false;   // every frame is an independent 1-spp estimate
+  s.jitter = false;      // G-buffer rays through pixel centres, as for the reference
+  s.accumulate = false;  // every frame is an independent 1-spp estimate
   return s;
 }
 
@@ -108,14 +108,17 @@ void expect_five_times_lower(const Scene& scene, const char* name) {
   size_t filtered_count = 0;
   for (size_t i = 0; i < guides.filtered.size(); ++i) filtered_count += filtered(i);
   Image bilateral = denoise_sequence(DenoiserKind::Bilateral, s), svgf = denoise_sequence(DenoiserKind::Svgf, s);
-  double input = rel_mse_where(s.noisy.back(), reference, all), input_filtered = rel_mse_where(s.noisy.back(), reference, filtered);
-  double bilateral_all = rel_mse_where(bilateral, reference, all), bilateral_filtered = rel_mse_where(bilateral, reference, filtered);
+  double input = rel_mse_where(s.noisy.back(), reference, all),
+         input_filtered = rel_mse_where(s.noisy.back(), reference, filtered);
+  double bilateral_all = rel_mse_where(bilateral, reference, all),
+         bilateral_filtered = rel_mse_where(bilateral, reference, filtered);
   double svgf_all = rel_mse_where(svgf, reference, all);
-  std::printf("%s relMSE, whole image: input %.4f, bilateral %.4f (%.1fx lower), svgf %.4f (%.1fx lower); "
-              "filtered pixels (%.1f%% of the image): input %.4f, bilateral %.4f (%.1fx lower)\n", name, input,
-              bilateral_all, input / bilateral_all, svgf_all, input / svgf_all,
-              100.0 * double(filtered_count) / double(guides.filtered.size()), input_filtered, bilateral_filtered,
-              input_filtered / bilateral_filtered);
+  std::printf(
+      "%s relMSE, whole image: input %.4f, bilateral %.4f (%.1fx lower), svgf %.4f (%.1fx lower); "
+      "filtered pixels (%.1f%% of the image): input %.4f, bilateral %.4f (%.1fx lower)\n",
+      name, input, bilateral_all, input / bilateral_all, svgf_all, input / svgf_all,
+      100.0 * double(filtered_count) / double(guides.filtered.size()), input_filtered, bilateral_filtered,
+      input_filtered / bilateral_filtered);
   EXPECT_LT(svgf_all * 5.0, input) << name;
   EXPECT_LT(bilateral_all * 5.0, input) << name;
 }
@@ -145,7 +148,8 @@ TEST(DenoiseRendered, RendererDenoisesRestirFrames) {
   settings.denoise.kind = DenoiserKind::Svgf;
   Renderer renderer(scene, settings);
   FrameStats stats;
-  for (int frame = 0; frame < 12; ++frame) stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
+  for (int frame = 0; frame < 12; ++frame)
+    stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
   double noisy = compare_images(renderer.noisy_image(), reference.image()).rel_mse;
   double denoised = compare_images(renderer.image(), reference.image()).rel_mse;
   std::printf("restir-di frame 12: relMSE noisy %.4f, svgf %.4f (%.1fx lower)\n", noisy, denoised, noisy / denoised);
@@ -274,7 +278,8 @@ TEST(DenoiseSynthetic, EdgesDoNotLeak) {
     EXPECT_NEAR(right, 4.0, 0.2) << name;
     Image input = shade(g, irradiance, 3);
     for (int y = 0; y < 32; ++y)
-      for (int x = 60; x < 64; ++x) EXPECT_EQ(out.at(x, y), input.at(x, y)) << name << " background pixel " << x << "," << y;
+      for (int x = 60; x < 64; ++x)
+        EXPECT_EQ(out.at(x, y), input.at(x, y)) << name << " background pixel " << x << "," << y;
   }
 }
 
@@ -310,7 +315,9 @@ TEST(DenoiseSynthetic, DemodulationKeepsTextureSharp) {
 // 10 * 36 / (filter footprint) into it, several times the tolerance). The pixels on either side of the
 // patch's border are not filtered (see Guides::filtered).
 TEST(DenoiseSynthetic, EmissionIsNotBlurred) {
-  auto box = [](int x, int y, int margin) { return x >= 29 - margin && x < 35 + margin && y >= 13 - margin && y < 19 + margin; };
+  auto box = [](int x, int y, int margin) {
+    return x >= 29 - margin && x < 35 + margin && y >= 13 - margin && y < 19 + margin;
+  };
   auto patch = [&](int x, int y) { return box(x, y, 0); };
   auto interior = [&](int x, int y) { return box(x, y, -1); };
   auto ring = [&](int x, int y) { return box(x, y, 3) && !box(x, y, 1); };
@@ -318,7 +325,8 @@ TEST(DenoiseSynthetic, EmissionIsNotBlurred) {
     return Surface{3.0f, vec3(0.0f, 0.0f, 1.0f), vec3(0.5f), 0, vec3(patch(x, y) ? 10.0f : 0.0f)};
   });
   for (DenoiserKind kind : {DenoiserKind::Bilateral, DenoiserKind::Svgf}) {
-    Image out = denoise_still(kind, g, [](int, int) { return 1.0f; }, 4);
+    Image out = denoise_still(
+        kind, g, [](int, int) { return 1.0f; }, 4);
     double emitter = region_mean(out, interior), around = region_mean(out, ring);
     const char* name = kind == DenoiserKind::Svgf ? "svgf" : "bilateral";
     std::printf("%s: emitter %.4f (true 10.5), ring around it %.4f (true 0.5)\n", name, emitter, around);
@@ -350,7 +358,8 @@ TEST(DenoiseSynthetic, NoGhostingAfterDisocclusion) {
   Svgf svgf;
   GBuffer none;
   FrameStats stats;
-  for (int f = 0; f < 12; ++f) svgf.denoise(before, f > 0 ? before : none, shade(before, irradiance, uint64_t(f)), stats);
+  for (int f = 0; f < 12; ++f)
+    svgf.denoise(before, f > 0 ? before : none, shade(before, irradiance, uint64_t(f)), stats);
   for (int n = 1; n <= 4; ++n) {
     const GBuffer& prev = n == 1 ? before : after;
     Image out = svgf.denoise(after, prev, shade(after, irradiance_after, uint64_t(100 + n)), stats);
@@ -377,7 +386,8 @@ TEST(DenoiseSynthetic, StagesAreTimed) {
   GBuffer g = make_gbuffer(32, 16, [](int, int) -> std::optional<Surface> {
     return Surface{3.0f, vec3(0.0f, 0.0f, 1.0f), vec3(0.5f), 0};
   });
-  Image noisy = shade(g, [](int, int) { return 1.0f; }, 0);
+  Image noisy = shade(
+      g, [](int, int) { return 1.0f; }, 0);
   FrameStats svgf_stats, bilateral_stats;
   Denoiser(DenoiserParams{DenoiserKind::Svgf}).denoise(g, GBuffer{}, noisy, svgf_stats);
   Denoiser(DenoiserParams{DenoiserKind::Bilateral}).denoise(g, GBuffer{}, noisy, bilateral_stats);
@@ -388,8 +398,8 @@ TEST(DenoiseSynthetic, StagesAreTimed) {
   };
   EXPECT_EQ(names(svgf_stats), (std::vector<std::string>{"denoise_guides", "denoise_demodulate", "svgf_temporal",
                                                          "svgf_variance", "svgf_atrous", "denoise_remodulate"}));
-  EXPECT_EQ(names(bilateral_stats), (std::vector<std::string>{"denoise_guides", "denoise_demodulate", "bilateral",
-                                                              "denoise_remodulate"}));
+  EXPECT_EQ(names(bilateral_stats),
+            (std::vector<std::string>{"denoise_guides", "denoise_demodulate", "bilateral", "denoise_remodulate"}));
 }
 
 // A NaN and an infinite input pixel are dropped (they become 0 in the illumination) and counted in the
@@ -398,7 +408,8 @@ TEST(DenoiseSynthetic, NonFiniteInputIsCounted) {
   GBuffer g = make_gbuffer(32, 16, [](int, int) -> std::optional<Surface> {
     return Surface{3.0f, vec3(0.0f, 0.0f, 1.0f), vec3(0.5f), 0};
   });
-  Image noisy = shade(g, [](int, int) { return 1.0f; }, 0);
+  Image noisy = shade(
+      g, [](int, int) { return 1.0f; }, 0);
   noisy.pixels[40] = vec3(std::numeric_limits<float>::quiet_NaN());
   noisy.pixels[41] = vec3(std::numeric_limits<float>::infinity(), 0.0f, 0.0f);
   FrameStats stats;

@@ -108,9 +108,11 @@ TEST(RestirDiReuse, VisibilityReuseSavesShadowRays) {
   uint64_t traced = 0, reused = 0;
   Image all = run(0, traced), some = run(4, reused);
   double rel_mse = compare_images(some, all).rel_mse;
-  std::printf("shadow rays in frames 1-9: %llu traced every frame, %llu with reuse (%.2fx); image mean %.5f vs %.5f, "
-              "relMSE between them %.2e\n", (unsigned long long)traced, (unsigned long long)reused, double(reused) / traced,
-              image_mean(some), image_mean(all), rel_mse);
+  std::printf(
+      "shadow rays in frames 1-9: %llu traced every frame, %llu with reuse (%.2fx); image mean %.5f vs %.5f, "
+      "relMSE between them %.2e\n",
+      (unsigned long long)traced, (unsigned long long)reused, double(reused) / traced, image_mean(some),
+      image_mean(all), rel_mse);
   EXPECT_LT(double(reused), 0.9 * double(traced));
   EXPECT_NEAR(image_mean(some) / image_mean(all), 1.0, 0.01);
   EXPECT_LT(rel_mse, 0.01);

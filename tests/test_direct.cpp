@@ -53,7 +53,9 @@ TEST(DirectLight, TreeNeverDropsAContributingLight) {
   // Receivers inside each punctual light's reach, facing it.
   for (const PunctualLight& l : scene.punctual_lights)
     for (int k = 0; k < 20; ++k) {
-      vec3 offset = l.type == PunctualType::Spot ? l.direction : glm::normalize(vec3(rng.next_float() - 0.5f, -1.0f, rng.next_float() - 0.5f));
+      vec3 offset = l.type == PunctualType::Spot
+                        ? l.direction
+                        : glm::normalize(vec3(rng.next_float() - 0.5f, -1.0f, rng.next_float() - 0.5f));
       vec3 p = l.position + offset * (0.5f + 3.0f * rng.next_float());
       points.push_back({p, glm::normalize(l.position - p + vec3(rng.next_float() - 0.5f) * 0.5f)});
     }
@@ -77,7 +79,11 @@ class DirectLightScene : public ::testing::Test {
     // its own error is 1/32 of a 64-spp estimate's).
     reference_ = new Image(render_direct<PowerLightSampler>(*scene_, *lights_, kW, kH, 2048, 999));
   }
-  static void TearDownTestSuite() { delete reference_; delete lights_; delete scene_; }
+  static void TearDownTestSuite() {
+    delete reference_;
+    delete lights_;
+    delete scene_;
+  }
   static constexpr int kW = 32, kH = 18;
   static Scene* scene_;
   static LightList* lights_;
@@ -112,17 +118,26 @@ TEST(Unbiased, LightSamplersAndRestirDiCandidates) {
   };
   const testing::Runs power = runs_of(direct(LightSamplerKind::Power, 128), 64, 1, 7000);
   const testing::Runs tree = runs_of(direct(LightSamplerKind::Tree, 128), 64, 1, 8000);
-  testing::expect_unbiased("direct, uniform", testing::compare_runs(runs_of(direct(LightSamplerKind::Uniform, 256), 64, 1, 1), power), 0.01);
-  testing::expect_unbiased("direct, power", testing::compare_runs(runs_of(direct(LightSamplerKind::Power, 64), 64, 1, 2), tree), 0.01);
-  testing::expect_unbiased("direct, tree", testing::compare_runs(runs_of(direct(LightSamplerKind::Tree, 64), 64, 1, 3), power), 0.01);
-  testing::expect_unbiased("direct, exhaustive", testing::compare_runs(runs_of(direct(LightSamplerKind::Exhaustive, 4), 64, 1, 4), power), 0.015);
+  testing::expect_unbiased(
+      "direct, uniform", testing::compare_runs(runs_of(direct(LightSamplerKind::Uniform, 256), 64, 1, 1), power), 0.01);
+  testing::expect_unbiased("direct, power",
+                           testing::compare_runs(runs_of(direct(LightSamplerKind::Power, 64), 64, 1, 2), tree), 0.01);
+  testing::expect_unbiased("direct, tree",
+                           testing::compare_runs(runs_of(direct(LightSamplerKind::Tree, 64), 64, 1, 3), power), 0.01);
+  testing::expect_unbiased("direct, exhaustive",
+                           testing::compare_runs(runs_of(direct(LightSamplerKind::Exhaustive, 4), 64, 1, 4), power),
+                           0.015);
   // The candidate stage alone (no reuse), accumulated over 24 frames per run: power and tree candidates,
   // with and without the visibility test, light and BSDF candidates mixed, and power candidates read from
   // presampled light tiles (8 tiles of 256 entries: a 16x16 block's 2,048 candidates share one, so they
   // are strongly correlated, and twice the runs keep the detectable bias under 1%; the punctual lights are
   // in the tiles too), and tree candidates read from region tiles (each block's own 256 entries, drawn for
   // the sphere around its points; the BSDF candidate's MIS weight uses the same region density).
-  struct Case { LightSamplerKind kind; bool visibility; int light_candidates, bsdf_candidates, light_tiles; };
+  struct Case {
+    LightSamplerKind kind;
+    bool visibility;
+    int light_candidates, bsdf_candidates, light_tiles;
+  };
   for (Case c : {Case{LightSamplerKind::Power, false, 8, 1, 0}, Case{LightSamplerKind::Tree, true, 8, 1, 0},
                  Case{LightSamplerKind::Power, false, 2, 4, 0}, Case{LightSamplerKind::Power, false, 8, 1, 8},
                  Case{LightSamplerKind::Tree, false, 8, 1, 1}}) {
@@ -134,17 +149,20 @@ TEST(Unbiased, LightSamplersAndRestirDiCandidates) {
     s.di.light_tiles = c.light_tiles;
     s.di.light_tile_size = 256;
     s.di_reuse.temporal = s.di_reuse.spatial = false;
-    const std::string name = std::string("restir-di candidates, ") + (c.kind == LightSamplerKind::Tree ? "tree" : "power") +
-                             (c.visibility ? ", visibility, " : ", ") + std::to_string(c.light_candidates) + " light + " +
-                             std::to_string(c.bsdf_candidates) + " BSDF" + (c.light_tiles ? ", light tiles" : "");
+    const std::string name =
+        std::string("restir-di candidates, ") + (c.kind == LightSamplerKind::Tree ? "tree" : "power") +
+        (c.visibility ? ", visibility, " : ", ") + std::to_string(c.light_candidates) + " light + " +
+        std::to_string(c.bsdf_candidates) + " BSDF" + (c.light_tiles ? ", light tiles" : "");
     testing::expect_unbiased(name, testing::compare_runs(runs_of(s, c.light_tiles ? 128 : 64, 24, 11), power), 0.01);
   }
 }
 
 // Equal sample count (64 paths per pixel): relative MSE of tree < power < uniform.
 TEST_F(DirectLightScene, VarianceOrderingTreePowerUniform) {
-  double uniform = compare_images(render_direct<UniformLightSampler>(*scene_, *lights_, kW, kH, 64, 5), *reference_).rel_mse;
-  double power = compare_images(render_direct<PowerLightSampler>(*scene_, *lights_, kW, kH, 64, 6), *reference_).rel_mse;
+  double uniform =
+      compare_images(render_direct<UniformLightSampler>(*scene_, *lights_, kW, kH, 64, 5), *reference_).rel_mse;
+  double power =
+      compare_images(render_direct<PowerLightSampler>(*scene_, *lights_, kW, kH, 64, 6), *reference_).rel_mse;
   double tree = compare_images(render_direct<LightTreeSampler>(*scene_, *lights_, kW, kH, 64, 7), *reference_).rel_mse;
   std::printf("relMSE at 64 spp: uniform %.3e, power %.3e, tree %.3e\n", uniform, power, tree);
   EXPECT_LT(tree, power);
@@ -152,8 +170,8 @@ TEST_F(DirectLightScene, VarianceOrderingTreePowerUniform) {
 }
 
 // Reuse lowers the error of a frame: over 16 runs (seeds) of 6 still frames at pixel centres, the mean
-// relMSE of the last frame against a path-traced reference at pixel centres with temporal and spatial reuse (basic, pairwise) is
-// below 0.6 of the candidate stage's alone (measured 2026-12-02 with the default, which drops occluded
+// relMSE of the last frame against a path-traced reference at pixel centres with temporal and spatial reuse (basic,
+// pairwise) is below 0.6 of the candidate stage's alone (measured 2026-12-02 with the default, which drops occluded
 // samples from the history: 0.318 and 0.310 vs 1.252; keeping them, 0.379 and 0.369). Unbiasedness of
 // reuse: Unbiased.RestirDi.
 TEST_F(DirectLightScene, RestirDiReuseHelps) {
@@ -167,7 +185,11 @@ TEST_F(DirectLightScene, RestirDiReuseHelps) {
   Renderer reference_renderer(*scene_, centres);
   testing::render_checked(reference_renderer, 0, 0.0f, scene_->default_camera());
   const Image reference = reference_renderer.image();
-  struct Mode { const char* name; bool reuse; DiBiasCorrection bias; };
+  struct Mode {
+    const char* name;
+    bool reuse;
+    DiBiasCorrection bias;
+  };
   double rel_mse_of[3];
   int k = 0;
   for (Mode mode : {Mode{"no reuse", false, DiBiasCorrection::Basic}, Mode{"basic", true, DiBiasCorrection::Basic},
@@ -186,7 +208,8 @@ TEST_F(DirectLightScene, RestirDiReuseHelps) {
       settings.di_reuse.temporal = settings.di_reuse.spatial = mode.reuse;
       settings.di_reuse.bias = mode.bias;
       Renderer renderer(*scene_, settings);
-      for (int frame = 0; frame < frames; ++frame) testing::render_checked(renderer, frame, 0.0f, scene_->default_camera());
+      for (int frame = 0; frame < frames; ++frame)
+        testing::render_checked(renderer, frame, 0.0f, scene_->default_camera());
       rel_mse += compare_images(renderer.image(), reference).rel_mse / runs;
     }
     std::printf("restir-di, %-8s: relMSE of one frame %.3e\n", mode.name, rel_mse);
@@ -212,7 +235,8 @@ TEST(RestirDi, EnvironmentReachesThroughBsdfCandidates) {
   Renderer renderer(scene, settings);
   for (int frame = 0; frame < 128; ++frame) testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
   ImageError e = compare_images(renderer.image(), reference);
-  std::printf("cornell with environment: mean difference %+.5f (standard error %.5f)\n", e.mean_difference, e.standard_error);
+  std::printf("cornell with environment: mean difference %+.5f (standard error %.5f)\n", e.mean_difference,
+              e.standard_error);
   EXPECT_LT(std::abs(e.mean_difference), 4.0 * e.standard_error);
 }
 

@@ -27,8 +27,10 @@ const std::map<std::string, std::string> kBugs = {
 // The message of the InputError that exercising `path` throws, "" when it throws none.
 std::string error_of(bool gltf, const std::string& path) {
   try {
-    if (gltf) fuzz::exercise_gltf(path);
-    else fuzz::exercise_shot_script(path);
+    if (gltf)
+      fuzz::exercise_gltf(path);
+    else
+      fuzz::exercise_shot_script(path);
   } catch (const InputError& e) {
     return e.what();
   }

@@ -47,7 +47,10 @@ TEST(GBuffer, PlanesDescribeTheVisibleSurface) {
   trace_gbuffer(scene, tracer, cam, cam, GBufferParams{1, 0, false}, g, rays);
   int hits = 0;
   for (size_t i = 0; i < g.size(); ++i) {
-    if (!g.hit(i)) { EXPECT_EQ(g.depth[i], kInfinity); continue; }
+    if (!g.hit(i)) {
+      EXPECT_EQ(g.depth[i], kInfinity);
+      continue;
+    }
     ++hits;
     EXPECT_NEAR(glm::length(g.shading_normal[i]), 1.0f, 1e-4f);
     EXPECT_GT(glm::dot(g.geometric_normal[i], cam.position() - g.position[i]), 0.0f) << "normal faces the camera";

@@ -19,7 +19,9 @@
 namespace candela {
 namespace {
 
-std::string broken_file(const std::string& name) { return std::string(CANDELA_SOURCE_DIR) + "/tests/data/broken/" + name; }
+std::string broken_file(const std::string& name) {
+  return std::string(CANDELA_SOURCE_DIR) + "/tests/data/broken/" + name;
+}
 
 // Triangles over unique meshes (the README of the shared scenes counts these, before instancing).
 size_t unique_triangles(const Scene& scene) {
@@ -34,8 +36,8 @@ size_t count_lights(const Scene& scene, PunctualType type) {
 }
 
 std::vector<const TextureRef*> texture_refs(const Material& m) {
-  return {&m.base_color_tex, &m.metallic_roughness_tex, &m.normal_tex, &m.emissive_tex, &m.specular_tex,
-          &m.specular_color_tex};
+  return {&m.base_color_tex, &m.metallic_roughness_tex, &m.normal_tex,
+          &m.emissive_tex,   &m.specular_tex,           &m.specular_color_tex};
 }
 
 bool has_warning_containing(const LoadReport& report, const std::string& text) {
@@ -131,7 +133,8 @@ INSTANTIATE_TEST_SUITE_P(GltfLoader, SharedSceneTest, ::testing::ValuesIn(kShare
 TEST(GltfLoader, CornellBoxInstancesCameraAndImagelessTexture) {
   Scene scene;
   LoadReport report;
-  if (!load_shared("nv_cornellbox/cornellBox.gltf", scene, report)) GTEST_SKIP() << testing::shared_scenes_skip_reason();
+  if (!load_shared("nv_cornellbox/cornellBox.gltf", scene, report))
+    GTEST_SKIP() << testing::shared_scenes_skip_reason();
   // One cube mesh is used by two nodes: one Mesh, two Instances.
   EXPECT_EQ(scene.meshes.size(), 9u);
   EXPECT_EQ(scene.instances.size(), 10u);
@@ -191,7 +194,8 @@ TEST(GltfLoader, LampLightsArePlacedThroughNodes) {
 TEST(GltfLoader, SofaTextureTransformAndDirectionalLight) {
   Scene scene;
   LoadReport report;
-  if (!load_shared("GlamVelvetSofa/glTF/GlamVelvetSofa.gltf", scene, report)) GTEST_SKIP() << testing::shared_scenes_skip_reason();
+  if (!load_shared("GlamVelvetSofa/glTF/GlamVelvetSofa.gltf", scene, report))
+    GTEST_SKIP() << testing::shared_scenes_skip_reason();
   bool transformed = false;
   for (const Material& m : scene.materials)
     for (const TextureRef* ref : texture_refs(m))

@@ -77,12 +77,14 @@ std::string glb_with_json(std::string json) {
 const std::string kDeep = nested_arrays(100000);
 
 TEST(JsonNesting, GltfOf100000LevelsIsRefusedCleanly) {
-  const std::string path = write_file("deep_100000.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + kDeep + "}");
+  const std::string path =
+      write_file("deep_100000.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + kDeep + "}");
   EXPECT_EQ(input_error([&] { load_gltf(path); }), path + ": " + kTooDeep);
 }
 
 TEST(JsonNesting, GlbOf100000LevelsIsRefusedCleanly) {
-  const std::string path = write_file("deep_100000.glb", glb_with_json("{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + kDeep + "}"));
+  const std::string path =
+      write_file("deep_100000.glb", glb_with_json("{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + kDeep + "}"));
   EXPECT_EQ(input_error([&] { load_gltf(path); }), path + ": " + kTooDeep);
 }
 

@@ -65,7 +65,10 @@ TEST(Lights, BlackTexturedTrianglesAreNotLights) {
 // counts may differ a little (the difference is reported) but must agree within 10%.
 TEST(Lights, SharedSceneEmitterCounts) {
   if (testing::shared_scenes_dir().empty()) GTEST_SKIP() << testing::shared_scenes_skip_reason();
-  struct Case { const char* file; size_t readme_count; };
+  struct Case {
+    const char* file;
+    size_t readme_count;
+  };
   for (Case c : {Case{"LightsPunctualLamp/glTF/LightsPunctualLamp.gltf", 358},
                  Case{"StainedGlassLamp/glTF-JPG-PNG/StainedGlassLamp.gltf", 14602},
                  Case{"DamagedHelmet/glTF/DamagedHelmet.gltf", 234},
@@ -129,8 +132,9 @@ TEST(Lights, TriangleSamplingDensityIsConsistent) {
   glm::dvec3 a = glm::dvec3(l.p0) - glm::dvec3(p), b = glm::dvec3(l.p0 + l.e1) - glm::dvec3(p),
              c = glm::dvec3(l.p0 + l.e2) - glm::dvec3(p);
   double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
-  double omega = 2.0 * std::abs(std::atan2(glm::dot(a, glm::cross(b, c)),
-                                           la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la));
+  double omega =
+      2.0 * std::abs(std::atan2(glm::dot(a, glm::cross(b, c)),
+                                la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la));
   EXPECT_NEAR(mean, omega, 4.0 * err + 1e-7);
 }
 

@@ -77,7 +77,7 @@ TEST(MaterialExtensions, SpecularAndIorAreRead) {
   EXPECT_EQ(textured.specular, 0.5f);
   ASSERT_TRUE(textured.specular_tex.valid());
   ASSERT_TRUE(textured.specular_color_tex.valid());
-  EXPECT_FALSE(scene.textures[size_t(textured.specular_tex.texture)].srgb);      // alpha: data
+  EXPECT_FALSE(scene.textures[size_t(textured.specular_tex.texture)].srgb);       // alpha: data
   EXPECT_TRUE(scene.textures[size_t(textured.specular_color_tex.texture)].srgb);  // colour: sRGB
   const Material& plain = scene.materials[3];
   EXPECT_EQ(plain.specular, 1.0f);
@@ -223,7 +223,7 @@ Image downsample(const Image& image, int width, int height) {
 struct PbrtCase {
   const char* reference;  // under occluded_room/reference/
   int max_depth, size, spp;
-  double max_rel_mse;     // 1.5x the measured value (0.019 direct, 0.031 with 5 bounces)
+  double max_rel_mse;  // 1.5x the measured value (0.019 direct, 0.031 with 5 bounces)
 };
 
 // occluded_room_lambert.gltf (KHR_materials_specular 0 everywhere) with the default options against
@@ -251,8 +251,8 @@ TEST_P(PbrtReference, OccludedRoomLambertMatches) {
   Image ref = downsample(reference, c.size, c.size);
   ImageError e = compare_images(image, ref);
   double ratio = image_mean(image) / image_mean(ref);
-  std::printf("occluded_room_lambert depth %d, %dx%d, %d spp: mean %.5f x pbrt's (+- %.5f), relMSE %.4f\n",
-              c.max_depth, c.size, c.size, c.spp, ratio, e.standard_error / image_mean(ref), e.rel_mse);
+  std::printf("occluded_room_lambert depth %d, %dx%d, %d spp: mean %.5f x pbrt's (+- %.5f), relMSE %.4f\n", c.max_depth,
+              c.size, c.size, c.spp, ratio, e.standard_error / image_mean(ref), e.rel_mse);
   EXPECT_NEAR(ratio, 1.0, 4.0 * e.standard_error / image_mean(ref));
   EXPECT_LE(e.rel_mse, c.max_rel_mse);
 }

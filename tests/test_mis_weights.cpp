@@ -37,10 +37,12 @@ struct TargetAt {
 TargetAt target_and_visibility(const Renderer& renderer, const DiDomain& domain, size_t pixel, const DiSample& y,
                                const LightList& from) {
   DiSample placed = y;
-  if (&domain.lights != &from && y.light != kSurfacePointSample) placed = di_resolve(renderer.scene(), domain.lights, y.light, y.uv);
+  if (&domain.lights != &from && y.light != kSurfacePointSample)
+    placed = di_resolve(renderer.scene(), domain.lights, y.light, y.uv);
   const DiReceiver r = di_receiver(domain, pixel);
   const DiContribution c = di_contribution(r, placed);
-  const bool visible = !renderer.tracer().occluded(shadow_ray(renderer.tracer(), r.position, r.geometric_normal, c.light));
+  const bool visible =
+      !renderer.tracer().occluded(shadow_ray(renderer.tracer(), r.position, r.geometric_normal, c.light));
   return {di_target(c), visible};
 }
 
@@ -56,8 +58,8 @@ struct Tally {
 // For every 5th pixel with a sample: the pixel's reservoir (input 0), up to 5 similar neighbours within 3
 // pixels, and last frame's reservoir of the same pixel (camera still, lights moved). Every input's sample
 // y is weighed by all inputs (di_mis_weights) and checked.
-Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& current, const std::vector<DiReservoir>& history,
-                    const DiReuseParams& params, const char* what) {
+Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& current,
+                    const std::vector<DiReservoir>& history, const DiReuseParams& params, const char* what) {
   const DiDomain now = renderer.current_domain(), before = renderer.previous_domain();
   EXPECT_NE(&now.lights, &before.lights) << "the lights must have moved between the two frames";
   const int w = now.width, h = now.height;
@@ -88,9 +90,11 @@ Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& cu
       ++tally.samples;
       std::vector<TargetAt> at(count);
       for (int z = 0; z < count; ++z)
-        at[z] = target_and_visibility(renderer, *inputs[z].domain, inputs[z].pixel, res.y, inputs[source].domain->lights);
+        at[z] =
+            target_and_visibility(renderer, *inputs[z].domain, inputs[z].pixel, res.y, inputs[source].domain->lights);
       // The target the source's reservoir stored is its target at its own sample, recomputed.
-      EXPECT_NEAR(res.p_hat_y, at[source].p, 1e-5f * std::max(1.0f, at[source].p)) << what << ": pixel " << i << " input " << source;
+      EXPECT_NEAR(res.p_hat_y, at[source].p, 1e-5f * std::max(1.0f, at[source].p))
+          << what << ": pixel " << i << " input " << source;
       float weights[32];
       di_mis_weights(view, inputs.data(), count, source, params, weights);
       float sum = 0.0f;
@@ -109,7 +113,8 @@ Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& cu
         }
       }
       // One where the combining pixel's integrand can be non-zero at y.
-      const bool counts = at[0].p > 0.0f && (!params.mis_visibility || params.bias == DiBiasCorrection::Pairwise || at[0].visible);
+      const bool counts =
+          at[0].p > 0.0f && (!params.mis_visibility || params.bias == DiBiasCorrection::Pairwise || at[0].visible);
       if (counts && std::abs(sum - 1.0f) > 1e-5f) {
         ADD_FAILURE() << what << ": pixel " << i << " sample of input " << source << " (" << count
                       << " inputs): weights sum to " << sum;
@@ -140,8 +145,8 @@ TEST(MisWeights, EveryInputsWeightsOfASampleSumToOne) {
   testing::render_checked(renderer, 1, 1.0f / 30.0f, scene.default_camera());
   for (DiBiasCorrection bias : {DiBiasCorrection::Basic, DiBiasCorrection::Pairwise})
     for (bool visibility : {false, true}) {
-      const std::string mode = std::string(bias == DiBiasCorrection::Basic ? "basic" : "pairwise") +
-                               (visibility ? "+visibility" : "");
+      const std::string mode =
+          std::string(bias == DiBiasCorrection::Basic ? "basic" : "pairwise") + (visibility ? "+visibility" : "");
       DiReuseParams di = settings.di_reuse, gi = settings.gi_reuse;
       di.bias = gi.bias = bias;
       di.mis_visibility = gi.mis_visibility = visibility;

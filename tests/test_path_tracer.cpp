@@ -48,8 +48,9 @@ TEST(PathTracer, FurnaceMatchesClosedForm) {
     Image img = render(make_furnace_scene(albedo, emission), 64, 64, 32, 100, 1);
     auto [mean, standard_error] = mean_and_error(img);
     const double expected = emission / (1.0 - albedo);
-    std::printf("furnace, albedo %.1f, pt: mean %.5f, expected %.5f (%+.2f standard errors; standard error %.5f = %.3f%%)\n",
-                albedo, mean, expected, (mean - expected) / standard_error, standard_error, 100.0 * standard_error / expected);
+    std::printf(
+        "furnace, albedo %.1f, pt: mean %.5f, expected %.5f (%+.2f standard errors; standard error %.5f = %.3f%%)\n",
+        albedo, mean, expected, (mean - expected) / standard_error, standard_error, 100.0 * standard_error / expected);
     EXPECT_NEAR(mean, expected, 4.0 * standard_error) << "albedo " << albedo;
     EXPECT_LT(standard_error, 0.003 * expected) << "albedo " << albedo;
   }
@@ -80,9 +81,11 @@ TEST(PathTracer, RestirFurnaceMatchesClosedForm) {
   }
   const double mean = sum / runs, standard_error = std::sqrt(std::max(0.0, sum2 / runs - mean * mean) / (runs - 1));
   const double expected = emission / (1.0 - albedo);
-  std::printf("furnace, albedo %.1f, restir: mean %.5f over %d runs, expected %.5f (%+.2f standard errors; standard "
-              "error %.5f = %.3f%%)\n", albedo, mean, runs, expected, (mean - expected) / standard_error, standard_error,
-              100.0 * standard_error / expected);
+  std::printf(
+      "furnace, albedo %.1f, restir: mean %.5f over %d runs, expected %.5f (%+.2f standard errors; standard "
+      "error %.5f = %.3f%%)\n",
+      albedo, mean, runs, expected, (mean - expected) / standard_error, standard_error,
+      100.0 * standard_error / expected);
   EXPECT_NEAR(mean, expected, 4.0 * standard_error);
   EXPECT_LT(standard_error, 0.005 * expected);
 }
@@ -111,7 +114,8 @@ TEST(PathTracer, SameImageForAnyThreadCount) {
     ASSERT_EQ(one.pixels.size(), two.pixels.size());
     EXPECT_EQ(0, std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(vec3))) << int(sequence);
     Image other_seed = render(scene, 48, 32, 4, 8, 4, sequence);
-    EXPECT_NE(0, std::memcmp(one.pixels.data(), other_seed.pixels.data(), one.pixels.size() * sizeof(vec3))) << int(sequence);
+    EXPECT_NE(0, std::memcmp(one.pixels.data(), other_seed.pixels.data(), one.pixels.size() * sizeof(vec3)))
+        << int(sequence);
   }
 }
 
@@ -159,9 +163,10 @@ TEST(PathTracer, LightSamplersAgree) {
   Image power_image = render<PowerLightSampler>(scene, 48, 36, 1024, 1, 6);
   const double mean = mean_and_error(power_image).first;
   auto [difference, standard_error] = mean_and_error(uniform_image, &power_image);
-  std::printf("two-light cornell, direct light: image mean %.5f (power); uniform - power %+.5f (%+.2f%%), standard "
-              "error %.5f, tolerance %.5f (%.2f%% of the mean)\n", mean, difference, 100.0 * difference / mean,
-              standard_error, 4.0 * standard_error, 400.0 * standard_error / mean);
+  std::printf(
+      "two-light cornell, direct light: image mean %.5f (power); uniform - power %+.5f (%+.2f%%), standard "
+      "error %.5f, tolerance %.5f (%.2f%% of the mean)\n",
+      mean, difference, 100.0 * difference / mean, standard_error, 4.0 * standard_error, 400.0 * standard_error / mean);
   EXPECT_NEAR(difference, 0.0, 4.0 * standard_error);
 }
 

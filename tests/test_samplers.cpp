@@ -24,8 +24,8 @@ namespace {
 // error that depends on how bright a light is (as precision loss does) or where it is in the list is
 // concentrated in its group. Significance 1e-3, fixed seed.
 template <class Sampler>
-void expect_frequencies_match_pmf(const Sampler& sampler, const LightList& lights, const ShadingContext& ctx, int samples,
-                                  uint64_t seed = 17) {
+void expect_frequencies_match_pmf(const Sampler& sampler, const LightList& lights, const ShadingContext& ctx,
+                                  int samples, uint64_t seed = 17) {
   size_t n = lights.size();
   std::vector<int> group_of(n);
   std::map<int, int> group_index;
@@ -35,7 +35,10 @@ void expect_frequencies_match_pmf(const Sampler& sampler, const LightList& light
     double p = sampler.pmf(ctx, i);
     int key = (p > 0.0 ? int(std::floor(std::log2(p) * 4.0)) : -100000) * 64 + int(uint64_t(i) * 64 / n);
     auto [it, inserted] = group_index.emplace(key, int(expected.size()));
-    if (inserted) { expected.push_back(0.0); observed.push_back(0.0); }
+    if (inserted) {
+      expected.push_back(0.0);
+      observed.push_back(0.0);
+    }
     group_of[i] = it->second;
     expected[it->second] += p * samples;
     pmf_sum += p;
@@ -54,7 +57,11 @@ void expect_frequencies_match_pmf(const Sampler& sampler, const LightList& light
   double chi2 = 0.0, pooled_expected = 0.0, pooled_observed = 0.0;
   int bins = 0;
   for (int g = 0; g < groups; ++g) {
-    if (expected[g] < 5.0) { pooled_expected += expected[g]; pooled_observed += observed[g]; continue; }
+    if (expected[g] < 5.0) {
+      pooled_expected += expected[g];
+      pooled_observed += observed[g];
+      continue;
+    }
     chi2 += (observed[g] - expected[g]) * (observed[g] - expected[g]) / expected[g];
     ++bins;
   }
@@ -99,7 +106,8 @@ std::vector<ShadingContext> shading_points(const Scene& scene, int count, uint64
 // At each shading point: frequencies match pmf (grouped chi-square at 1e-3 per point), pmf sums to 1
 // wherever a light can reach, and sample() reports exactly pmf().
 template <class Sampler>
-void check_sampler_at(const Sampler& sampler, const LightList& lights, const std::vector<ShadingContext>& points, int samples) {
+void check_sampler_at(const Sampler& sampler, const LightList& lights, const std::vector<ShadingContext>& points,
+                      int samples) {
   int k = 0;
   for (const ShadingContext& ctx : points) {
     double sum = 0.0;
@@ -140,7 +148,9 @@ TEST(Samplers, TreeAfterRefitFollowsMovingLights) {
   check_sampler_at(tree, lights, std::vector<ShadingContext>(points.begin(), points.begin() + 2), 200000);
 }
 
-TEST(Samplers, TreeFrequenciesMatchPmf) { check_context_sampler<LightTreeSampler>(make_manylights_scene(256, 7), 12, 200000); }
+TEST(Samplers, TreeFrequenciesMatchPmf) {
+  check_context_sampler<LightTreeSampler>(make_manylights_scene(256, 7), 12, 200000);
+}
 
 // Regions (ShadingContext::radius: the light tiles of a screen block) spread through a scene, 0.05-2 m.
 std::vector<ShadingContext> regions(const Scene& scene, int count, uint64_t seed) {
@@ -175,7 +185,9 @@ TEST(Samplers, TreeRegionsKeepEveryLightTheirReceiversCanReach) {
     EXPECT_GT(checked, 1000u);
   }
 }
-TEST(Samplers, ExhaustiveFrequenciesMatchPmf) { check_context_sampler<ExhaustiveLightSampler>(make_manylights_scene(64, 7), 4, 50000); }
+TEST(Samplers, ExhaustiveFrequenciesMatchPmf) {
+  check_context_sampler<ExhaustiveLightSampler>(make_manylights_scene(64, 7), 4, 50000);
+}
 // With a directional light beside the finite ones (chosen with its own probability).
 Scene manylights_with_sun() {
   Scene s = make_manylights_scene(64, 7);
@@ -186,7 +198,9 @@ Scene manylights_with_sun() {
   s.punctual_lights.push_back(sun);
   return s;
 }
-TEST(Samplers, TreeFrequenciesMatchPmfWithADirectionalLight) { check_context_sampler<LightTreeSampler>(manylights_with_sun(), 4, 100000); }
+TEST(Samplers, TreeFrequenciesMatchPmfWithADirectionalLight) {
+  check_context_sampler<LightTreeSampler>(manylights_with_sun(), 4, 100000);
+}
 TEST(Samplers, ExhaustiveFrequenciesMatchPmfWithADirectionalLight) {
   check_context_sampler<ExhaustiveLightSampler>(manylights_with_sun(), 2, 20000);
 }
@@ -196,7 +210,9 @@ TEST(Samplers, TreeFrequenciesMatchPmfInStainedGlassLamp) {
   if (path.empty()) GTEST_SKIP() << testing::shared_scenes_skip_reason();  // (a failure if only the file is missing)
   check_context_sampler<LightTreeSampler>(load_scene(path), 3, 200000);
 }
-TEST(Samplers, TreeFrequenciesMatchPmfInTheCity) { check_context_sampler<LightTreeSampler>(make_city_scene(7), 3, 200000); }
+TEST(Samplers, TreeFrequenciesMatchPmfInTheCity) {
+  check_context_sampler<LightTreeSampler>(make_city_scene(7), 3, 200000);
+}
 
 // sample_many (one shading point, each node's weights computed once) gives exactly what sample() gives for
 // each uniform, also past the 32 nodes it remembers (200 draws at a point of manylights with 4,096 lights)
@@ -294,8 +310,8 @@ TEST(Samplers, WideImportanceGivesTheScalarBitsOnRandomBounds) {
         const float expected = scalar[k].importance(ShadingContext{p, n, region});
         ++compared;
         positive += expected > 0.0f;
-        EXPECT_TRUE(testing::same_bits(lanes[k], expected)) << target << ", node " << node << " slot " << k << ": lanes "
-                                                            << lanes[k] << ", scalar " << expected;
+        EXPECT_TRUE(testing::same_bits(lanes[k], expected))
+            << target << ", node " << node << " slot " << k << ": lanes " << lanes[k] << ", scalar " << expected;
       }
     });
   }

@@ -59,7 +59,9 @@ std::map<std::string, double> values_of(const RenderSettings& s) {
 void expect_only_changed(const std::string& key, const RenderSettings& before, const RenderSettings& after) {
   const auto a = values_of(before), b = values_of(after);
   for (const auto& [k, v] : a)
-    if (k != key) EXPECT_EQ(b.at(k), v) << "setting " << key << " also changed " << k;
+    if (k != key) {
+      EXPECT_EQ(b.at(k), v) << "setting " << key << " also changed " << k;
+    }
 }
 
 TEST(SettingsSchema, KeysAndOptionsAreUniqueAndDocumented) {
@@ -67,10 +69,14 @@ TEST(SettingsSchema, KeysAndOptionsAreUniqueAndDocumented) {
   for (const Setting& row : settings_schema()) {
     EXPECT_TRUE(keys.insert(row.key).second) << row.key;
     EXPECT_TRUE(options.insert(row.option()).second) << row.option();
-    if (row.type == SettingType::Flag) EXPECT_TRUE(options.insert("--" + row.off_option).second) << row.off_option;
+    if (row.type == SettingType::Flag) {
+      EXPECT_TRUE(options.insert("--" + row.off_option).second) << row.off_option;
+    }
     EXPECT_FALSE(row.doc.empty()) << row.key;
     EXPECT_NE(row.methods, 0u) << row.key;
-    if (!(row.scope & kScript)) EXPECT_FALSE(row.refusal.empty()) << row.key << ": scripts are not told why";
+    if (!(row.scope & kScript)) {
+      EXPECT_FALSE(row.refusal.empty()) << row.key << ": scripts are not told why";
+    }
     EXPECT_EQ(find_setting(row.key), &row);
   }
   EXPECT_EQ(find_setting("no_such_setting"), nullptr);
@@ -80,9 +86,13 @@ TEST(SettingsSchema, DefaultsAreWithinTheirRows) {
   const RenderSettings defaults;
   for (const Setting& row : settings_schema()) {
     const double v = row.get(defaults);
-    if (row.type == SettingType::Choice) EXPECT_LT(size_t(v), row.names.size()) << row.key;
-    else if (!row.values.empty()) EXPECT_NE(std::find(row.values.begin(), row.values.end(), int(v)), row.values.end()) << row.key;
-    else EXPECT_TRUE(v >= row.min && v <= row.max) << row.key << " = " << v;
+    if (row.type == SettingType::Choice) {
+      EXPECT_LT(size_t(v), row.names.size()) << row.key;
+    } else if (!row.values.empty()) {
+      EXPECT_NE(std::find(row.values.begin(), row.values.end(), int(v)), row.values.end()) << row.key;
+    } else {
+      EXPECT_TRUE(v >= row.min && v <= row.max) << row.key << " = " << v;
+    }
   }
 }
 
@@ -110,8 +120,10 @@ TEST(SettingsSchema, CommandLineSetsEveryRow) {
       add_setting_options(app, s, scope);
       const double v = other_value(row, s);
       std::vector<std::string> args;
-      if (row.type == SettingType::Flag) args = {v != 0.0 ? row.option() : "--" + row.off_option};
-      else args = {row.option(), text_of(row, v)};
+      if (row.type == SettingType::Flag)
+        args = {v != 0.0 ? row.option() : "--" + row.off_option};
+      else
+        args = {row.option(), text_of(row, v)};
       std::reverse(args.begin(), args.end());  // CLI11 takes the arguments last first
       app.parse(args);
       EXPECT_EQ(row.get(s), row.type == SettingType::Float ? double(float(v)) : v) << row.option();
@@ -129,7 +141,8 @@ TEST(SettingsSchema, CommandLineRejectsValuesOutsideTheRow) {
     const std::string bad = row.type == SettingType::Choice ? "no-such-name"
                             : !row.values.empty()           ? "4"
                                                             : text_of(row, row.max) + "1";
-    EXPECT_THROW(app.parse(std::vector<std::string>{bad, row.option()}), CLI::ValidationError) << row.option() << " " << bad;
+    EXPECT_THROW(app.parse(std::vector<std::string>{bad, row.option()}), CLI::ValidationError)
+        << row.option() << " " << bad;
   }
 }
 
@@ -165,11 +178,16 @@ TEST(SettingsSchema, ShotScriptsSetEveryRow) {
 TEST(SettingsSchema, ShotScriptsRefuseOutOfRangeAndForbiddenKeys) {
   for (const Setting& row : settings_schema()) {
     std::string bad;
-    if (!(row.scope & kScript)) bad = "1";
-    else if (row.type == SettingType::Choice) bad = "\"no-such-name\"";
-    else if (row.type == SettingType::Flag) bad = "3";
-    else if (!row.values.empty()) bad = "4";
-    else bad = text_of(row, row.max) + "1";
+    if (!(row.scope & kScript))
+      bad = "1";
+    else if (row.type == SettingType::Choice)
+      bad = "\"no-such-name\"";
+    else if (row.type == SettingType::Flag)
+      bad = "3";
+    else if (!row.values.empty())
+      bad = "4";
+    else
+      bad = text_of(row, row.max) + "1";
     ScriptFile file("\"" + row.key + "\": " + bad + ",");
     try {
       read_shot_script(file.path());
@@ -177,15 +195,20 @@ TEST(SettingsSchema, ShotScriptsRefuseOutOfRangeAndForbiddenKeys) {
     } catch (const InputError& e) {
       const std::string what = e.what();
       EXPECT_NE(what.find(": " + row.key + ": "), std::string::npos) << what;
-      if (!(row.scope & kScript)) EXPECT_NE(what.find(row.refusal), std::string::npos) << what;
-      if (row.type == SettingType::Int && (row.scope & kScript)) EXPECT_NE(what.find(row.values.empty() ? ".." : " or "), std::string::npos) << what;
+      if (!(row.scope & kScript)) {
+        EXPECT_NE(what.find(row.refusal), std::string::npos) << what;
+      }
+      if (row.type == SettingType::Int && (row.scope & kScript)) {
+        EXPECT_NE(what.find(row.values.empty() ? ".." : " or "), std::string::npos) << what;
+      }
     }
   }
 }
 
 TEST(SettingsSchema, MarkdownHasOneRowPerSetting) {
   const std::string md = settings_markdown();
-  for (const Setting& row : settings_schema()) EXPECT_NE(md.find("| `" + row.option() + "`"), std::string::npos) << row.key;
+  for (const Setting& row : settings_schema())
+    EXPECT_NE(md.find("| `" + row.option() + "`"), std::string::npos) << row.key;
   size_t rows = 0;
   for (size_t at = md.find("\n| `--"); at != std::string::npos; at = md.find("\n| `--", at + 1)) ++rows;
   EXPECT_EQ(rows + (md.rfind("| `--", 0) == 0 ? 1 : 0), settings_schema().size());

@@ -73,7 +73,8 @@ TEST(Sobol, StreamsStratifyEveryDecision) {
           for (int d = 0; d < decisions; ++d) points[size_t(d)].push_back(stream.next_2d());
         }
         for (int d = 0; d < decisions; ++d)
-          ASSERT_TRUE(is_net(points[size_t(d)], k)) << "pixel " << pixel << ", 2^" << k << " from " << first << ", decision " << d;
+          ASSERT_TRUE(is_net(points[size_t(d)], k))
+              << "pixel " << pixel << ", 2^" << k << " from " << first << ", decision " << d;
       }
 }
 
@@ -104,7 +105,11 @@ TEST(Sobol, DimensionsAndEpochsAreDecorrelated) {
         double sab = 0, sa = 0, sb = 0, saa = 0, sbb = 0;
         for (int i = 0; i < n; ++i) {
           const double x = v[size_t(a)][size_t(i)], y = v[size_t(b)][size_t(i)];
-          sa += x; sb += y; sab += x * y; saa += x * x; sbb += y * y;
+          sa += x;
+          sb += y;
+          sab += x * y;
+          saa += x * x;
+          sbb += y * y;
         }
         const double cov = sab / n - sa / n * sb / n;
         const double r = cov / std::sqrt((saa / n - sa / n * sa / n) * (sbb / n - sb / n * sb / n));
@@ -135,8 +140,8 @@ TEST(Sobol, ScreenSequenceStratifiesNeighbouringPixels) {
                 for (int d = 0; d < decisions; ++d) points[size_t(d)].push_back(stream.next_2d());
               }
           for (int d = 0; d < decisions; ++d)
-            ASSERT_TRUE(is_net(points[size_t(d)], 2 * j + l)) << "2^" << l << " spp, block " << (1 << j) << " at (" << bx
-                                                              << ", " << by << "), decision " << d;
+            ASSERT_TRUE(is_net(points[size_t(d)], 2 * j + l))
+                << "2^" << l << " spp, block " << (1 << j) << " at (" << bx << ", " << by << "), decision " << d;
         }
   }
   // Two pixels side by side hold neighbouring indices, and distinct pixels distinct ones.

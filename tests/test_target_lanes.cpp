@@ -1,7 +1,8 @@
 // ReSTIR's SIMD lanes (restir/target_lanes.h, receiver_lanes.h, reuse_targets.h) against the scalar reference
 // (di_contribution, Bsdf::eval, Bsdf::pdf): the kernel repeats the scalar operations in the same order
 // without fused multiply-adds, so the bound is exact equality (0 ulp), for p_hat and the BSDF's area
-// density alike (where p_hat > 0, the only place it is read); a kernel that fused a multiply-add or reordered a sum fails here.
+// density alike (where p_hat > 0, the only place it is read); a kernel that fused a multiply-add or reordered a sum
+// fails here.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -80,10 +81,12 @@ TEST(TargetLanes, KernelGivesTheScalarBitsOnRandomInputs) {
           const CandidateLanes &a = lanes->planes[size_t(k)], &b = scalar->planes[size_t(k)];
           ++compared;
           positive += b.p_hat[s] > 0.0f;
-          EXPECT_TRUE(same_bits(a.p_hat[s], b.p_hat[s])) << target << ", p_hat, batch " << batches << " candidate " << k
-                                                         << " slot " << s << ": lanes " << a.p_hat[s] << ", scalar " << b.p_hat[s];
-          if (b.p_hat[s] <= 0.0f) continue;  // the density is read only where the target is positive (scalar:
-                                             // NaN for a point at the receiver; lanes: 0)
+          EXPECT_TRUE(same_bits(a.p_hat[s], b.p_hat[s]))
+              << target << ", p_hat, batch " << batches << " candidate " << k << " slot " << s << ": lanes "
+              << a.p_hat[s] << ", scalar " << b.p_hat[s];
+          if (b.p_hat[s] <= 0.0f)
+            continue;  // the density is read only where the target is positive (scalar:
+                       // NaN for a point at the receiver; lanes: 0)
           EXPECT_TRUE(same_bits(a.bsdf_area_pdf[s], b.bsdf_area_pdf[s]))
               << target << ", BSDF area density, batch " << batches << " candidate " << k << " slot " << s << ": lanes "
               << a.bsdf_area_pdf[s] << ", scalar " << b.bsdf_area_pdf[s];
@@ -136,18 +139,35 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
       for (int s = 0; s < kLaneSlots; ++s) {
         const ReceiverLanes::BsdfPlanes &a = lanes->target, &b = scalar->target;
         const std::pair<const char*, std::pair<float, float>> fields[] = {
-            {"px", {lanes->px[s], scalar->px[s]}}, {"py", {lanes->py[s], scalar->py[s]}},
-            {"pz", {lanes->pz[s], scalar->pz[s]}}, {"gx", {lanes->gx[s], scalar->gx[s]}},
-            {"gy", {lanes->gy[s], scalar->gy[s]}}, {"gz", {lanes->gz[s], scalar->gz[s]}},
-            {"wox", {lanes->wox[s], scalar->wox[s]}}, {"woy", {lanes->woy[s], scalar->woy[s]}},
-            {"woz", {lanes->woz[s], scalar->woz[s]}}, {"nx", {a.nx[s], b.nx[s]}}, {"ny", {a.ny[s], b.ny[s]}},
-            {"nz", {a.nz[s], b.nz[s]}}, {"cos_o", {a.cos_o[s], b.cos_o[s]}}, {"alpha", {a.alpha[s], b.alpha[s]}},
-            {"s_o", {a.s_o[s], b.s_o[s]}}, {"f0.r", {a.f0[0][s], b.f0[0][s]}}, {"f0.g", {a.f0[1][s], b.f0[1][s]}},
-            {"f0.b", {a.f0[2][s], b.f0[2][s]}}, {"f90", {a.f90[s], b.f90[s]}}, {"ms.r", {a.ms[0][s], b.ms[0][s]}},
-            {"ms.g", {a.ms[1][s], b.ms[1][s]}}, {"ms.b", {a.ms[2][s], b.ms[2][s]}}, {"ms_o", {a.ms_o[s], b.ms_o[s]}},
-            {"base_o.r", {a.base_o[0][s], b.base_o[0][s]}}, {"base_o.g", {a.base_o[1][s], b.base_o[1][s]}},
-            {"base_o.b", {a.base_o[2][s], b.base_o[2][s]}}, {"d_f0", {a.d_f0[0][s], b.d_f0[0][s]}},
-            {"d_ms", {a.d_ms[0][s], b.d_ms[0][s]}}, {"d_f90", {a.d_f90[s], b.d_f90[s]}},
+            {"px", {lanes->px[s], scalar->px[s]}},
+            {"py", {lanes->py[s], scalar->py[s]}},
+            {"pz", {lanes->pz[s], scalar->pz[s]}},
+            {"gx", {lanes->gx[s], scalar->gx[s]}},
+            {"gy", {lanes->gy[s], scalar->gy[s]}},
+            {"gz", {lanes->gz[s], scalar->gz[s]}},
+            {"wox", {lanes->wox[s], scalar->wox[s]}},
+            {"woy", {lanes->woy[s], scalar->woy[s]}},
+            {"woz", {lanes->woz[s], scalar->woz[s]}},
+            {"nx", {a.nx[s], b.nx[s]}},
+            {"ny", {a.ny[s], b.ny[s]}},
+            {"nz", {a.nz[s], b.nz[s]}},
+            {"cos_o", {a.cos_o[s], b.cos_o[s]}},
+            {"alpha", {a.alpha[s], b.alpha[s]}},
+            {"s_o", {a.s_o[s], b.s_o[s]}},
+            {"f0.r", {a.f0[0][s], b.f0[0][s]}},
+            {"f0.g", {a.f0[1][s], b.f0[1][s]}},
+            {"f0.b", {a.f0[2][s], b.f0[2][s]}},
+            {"f90", {a.f90[s], b.f90[s]}},
+            {"ms.r", {a.ms[0][s], b.ms[0][s]}},
+            {"ms.g", {a.ms[1][s], b.ms[1][s]}},
+            {"ms.b", {a.ms[2][s], b.ms[2][s]}},
+            {"ms_o", {a.ms_o[s], b.ms_o[s]}},
+            {"base_o.r", {a.base_o[0][s], b.base_o[0][s]}},
+            {"base_o.g", {a.base_o[1][s], b.base_o[1][s]}},
+            {"base_o.b", {a.base_o[2][s], b.base_o[2][s]}},
+            {"d_f0", {a.d_f0[0][s], b.d_f0[0][s]}},
+            {"d_ms", {a.d_ms[0][s], b.d_ms[0][s]}},
+            {"d_f90", {a.d_f90[s], b.d_f90[s]}},
             {"albedo_weight", {a.albedo_weight[s], b.albedo_weight[s]}}};
         for (const auto& [name, values] : fields) {
           ++compared;
@@ -156,20 +176,22 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
               << ", scalar " << values.second;
         }
         for (int c = 1; c < 3; ++c)
-          EXPECT_TRUE(same_bits(a.d_f0[c][s], b.d_f0[c][s]) && same_bits(a.d_ms[c][s], b.d_ms[c][s])) << target << " slot " << s;
+          EXPECT_TRUE(same_bits(a.d_f0[c][s], b.d_f0[c][s]) && same_bits(a.d_ms[c][s], b.d_ms[c][s]))
+              << target << " slot " << s;
         EXPECT_EQ(a.albedo_row[s], b.albedo_row[s]) << target << ", albedo row, batch " << batch << " slot " << s;
       }
     });
     if (::testing::Test::HasFailure()) break;
   }
-  std::printf("  %d receiver terms compared (%d receivers lit from the eye's side) on %s\n", compared, lit, targets.c_str());
+  std::printf("  %d receiver terms compared (%d receivers lit from the eye's side) on %s\n", compared, lit,
+              targets.c_str());
   EXPECT_GT(lit, 100 * kLaneSlots / 4) << "too few receivers facing the eye to test the wo terms";
 }
 
 // The whole chain on rendered frames: the reservoirs after 3 frames of candidates and reuse are the same
 // bits with the lanes (candidates, and the targets of temporal and spatial reuse) as with the scalar path,
-// on manylights, the Cornell box and city (whose lights and camera move: history placed by other lights), for ReSTIR DI alone and with ReSTIR GI (whose reuse shares the
-// code), with pairwise and basic MIS.
+// on manylights, the Cornell box and city (whose lights and camera move: history placed by other lights), for ReSTIR DI
+// alone and with ReSTIR GI (whose reuse shares the code), with pairwise and basic MIS.
 TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
   struct Case {
     const char* scene;

@@ -41,7 +41,8 @@ BruteHit brute_force(const Scene& scene, const Ray& ray) {
       WorldTriangle w = world_triangle(scene, i, p);
       double t;
       if (intersect_triangle(glm::dvec3(ray.origin), glm::dvec3(ray.direction), glm::dvec3(w.p0), glm::dvec3(w.p1),
-                             glm::dvec3(w.p2), t) && t < best.t)
+                             glm::dvec3(w.p2), t) &&
+          t < best.t)
         best = {t, i, p};
     }
   }
@@ -79,7 +80,8 @@ TEST(Tracer, AgreesWithBruteForce) {
       // Only a tie (the ray crosses a shared edge) may pick another triangle: it must be hit at the same t.
       double t_other;
       WorldTriangle o2 = world_triangle(scene, h.instance, h.prim);
-      ASSERT_TRUE(intersect_triangle(glm::dvec3(o), glm::dvec3(d), glm::dvec3(o2.p0), glm::dvec3(o2.p1), glm::dvec3(o2.p2), t_other) ||
+      ASSERT_TRUE(intersect_triangle(glm::dvec3(o), glm::dvec3(d), glm::dvec3(o2.p0), glm::dvec3(o2.p1),
+                                     glm::dvec3(o2.p2), t_other) ||
                   std::abs(h.t - b.t) < 1e-5)
           << "ray " << k;
     }
@@ -99,15 +101,22 @@ TEST(Tracer, PacketsAgreeWithSingleRays) {
     RayPacket16 packet, shadow;
     Ray rays[16];
     for (int lane = 0; lane < 16; ++lane) {
-      rays[lane] = Ray{vec3(0, 1, 3.5f), glm::normalize(vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, -1.0f)), 0.0f, kInfinity};
-      if (lane == 7) { packet.set_inactive(lane); continue; }
+      rays[lane] = Ray{vec3(0, 1, 3.5f), glm::normalize(vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, -1.0f)),
+                       0.0f, kInfinity};
+      if (lane == 7) {
+        packet.set_inactive(lane);
+        continue;
+      }
       packet.set(lane, rays[lane]);
     }
     tracer.intersect16(packet, true);
     for (int lane = 0; lane < 16; ++lane) {
       Hit single = tracer.intersect(rays[lane]);
       Hit packed = tracer.packet_hit(packet, lane);
-      if (lane == 7) { EXPECT_FALSE(packed.valid()); continue; }
+      if (lane == 7) {
+        EXPECT_FALSE(packed.valid());
+        continue;
+      }
       ASSERT_EQ(single.valid(), packed.valid());
       EXPECT_EQ(single.instance, packed.instance);
       EXPECT_EQ(single.prim, packed.prim);
@@ -120,7 +129,8 @@ TEST(Tracer, PacketsAgreeWithSingleRays) {
     tracer.occluded16(shadow);
     for (int lane = 0; lane < 16; ++lane)
       if (lane != 7) {
-        EXPECT_EQ(Tracer::occluded_lane(shadow, lane), lane % 2 == 0 && tracer.intersect(rays[lane]).valid()) << "lane " << lane;
+        EXPECT_EQ(Tracer::occluded_lane(shadow, lane), lane % 2 == 0 && tracer.intersect(rays[lane]).valid())
+            << "lane " << lane;
       }
   }
 }
@@ -138,10 +148,12 @@ vec3 point_near_edges(const WorldTriangle& w, Rng& rng, int k) {
   const float t = rng.next_float(), close = 1e-4f * rng.next_float();
   vec2 b(t, rng.next_float());  // (b1, b2): p = (1 - b1 - b2) p0 + b1 p1 + b2 p2
   switch (k % 4) {
-    case 0: if (b.x + b.y > 1.0f) b = vec2(1.0f) - b; break;  // anywhere
-    case 1: b = vec2(close, t * (1.0f - close)); break;       // near the edge p0-p2
-    case 2: b = vec2(t * (1.0f - close), close); break;       // near the edge p0-p1
-    case 3: b = vec2(t, 1.0f - t) * (1.0f - close); break;    // near the edge p1-p2
+    case 0:
+      if (b.x + b.y > 1.0f) b = vec2(1.0f) - b;
+      break;                                                // anywhere
+    case 1: b = vec2(close, t * (1.0f - close)); break;     // near the edge p0-p2
+    case 2: b = vec2(t * (1.0f - close), close); break;     // near the edge p0-p1
+    case 3: b = vec2(t, 1.0f - t) * (1.0f - close); break;  // near the edge p1-p2
   }
   return w.p0 * (1.0f - b.x - b.y) + w.p1 * b.x + w.p2 * b.y;
 }
@@ -172,7 +184,8 @@ SelfHits self_hits(const Scene& scene, const Tracer& tracer, Rng& rng, int per_t
         const WorldTriangle hw = world_triangle(scene, h.instance, h.prim);
         const vec3 hn = glm::normalize(hw.normal());
         const bool same = h.instance == i && h.prim == p;
-        const bool coplanar = std::abs(glm::dot(hn, ng)) > 1.0f - 1e-4f && std::abs(glm::dot(hn, pos - hw.p0)) < plane_tolerance;
+        const bool coplanar =
+            std::abs(glm::dot(hn, ng)) > 1.0f - 1e-4f && std::abs(glm::dot(hn, pos - hw.p0)) < plane_tolerance;
         const bool leaves_convex = convex && glm::dot(d, ng) < 0.0f;  // the sphere's triangles face inwards
         hits.own += same;
         hits.neighbour += !same && (coplanar || leaves_convex);
@@ -193,8 +206,8 @@ TEST(Tracer, SpawnedRaysAvoidSelfIntersection) {
     const Scene cornell = scaled(make_cornell_scene(), scale), sphere = scaled(make_furnace_scene(0.5f, 1.0f), scale);
     const SelfHits box = self_hits(cornell, Tracer(cornell), rng, 40, false, trials);
     const SelfHits ball = self_hits(sphere, Tracer(sphere), rng, 4, true, trials);
-    std::printf("scale %g: %d rays; hits of the own triangle / of a neighbour: cornell %d / %d, sphere %d / %d\n", scale,
-                trials, box.own, box.neighbour, ball.own, ball.neighbour);
+    std::printf("scale %g: %d rays; hits of the own triangle / of a neighbour: cornell %d / %d, sphere %d / %d\n",
+                scale, trials, box.own, box.neighbour, ball.own, ball.neighbour);
     EXPECT_EQ(box.own + box.neighbour, 0) << "scale " << scale;
     EXPECT_EQ(ball.own + ball.neighbour, 0) << "scale " << scale;
   }

@@ -67,15 +67,15 @@ TEST(Unbiased, RestirDi) {
     bool visibility, candidate_visibility, drop_occluded;
     Expect expect;
   };
-  for (Mode mode : {Mode{"basic", DiBiasCorrection::Basic, false, false, false, Expect::Unbiased},
-                    Mode{"pairwise", DiBiasCorrection::Pairwise, false, false, false, Expect::Unbiased},
-                    Mode{"basic+visibility", DiBiasCorrection::Basic, true, true, false, Expect::Unbiased},
-                    Mode{"pairwise+visibility", DiBiasCorrection::Pairwise, true, true, false, Expect::Unbiased},
-                    Mode{"basic, visible candidates", DiBiasCorrection::Basic, false, true, false, Expect::Biased},
-                    Mode{"none, visible candidates", DiBiasCorrection::None, false, true, false, Expect::Biased},
-                    Mode{"pairwise, drop occluded (the default)", DiBiasCorrection::Pairwise, false, false, true,
-                         Expect::Biased},
-                    Mode{"none", DiBiasCorrection::None, false, false, false, Expect::Printed}}) {
+  for (Mode mode :
+       {Mode{"basic", DiBiasCorrection::Basic, false, false, false, Expect::Unbiased},
+        Mode{"pairwise", DiBiasCorrection::Pairwise, false, false, false, Expect::Unbiased},
+        Mode{"basic+visibility", DiBiasCorrection::Basic, true, true, false, Expect::Unbiased},
+        Mode{"pairwise+visibility", DiBiasCorrection::Pairwise, true, true, false, Expect::Unbiased},
+        Mode{"basic, visible candidates", DiBiasCorrection::Basic, false, true, false, Expect::Biased},
+        Mode{"none, visible candidates", DiBiasCorrection::None, false, true, false, Expect::Biased},
+        Mode{"pairwise, drop occluded (the default)", DiBiasCorrection::Pairwise, false, false, true, Expect::Biased},
+        Mode{"none", DiBiasCorrection::None, false, false, false, Expect::Printed}}) {
     RenderSettings s = run_settings(w, h, Method::RestirDi, 0);
     s.di_reuse.bias = mode.bias;
     s.di_reuse.mis_visibility = mode.visibility;
@@ -128,7 +128,13 @@ TEST(Unbiased, RestirGi) {
   const Scene scene = lambertian(make_cornell_scene());
   const int w = 64, h = 48, depth = 3;
   const testing::Runs reference = indirect_runs(scene, w, h, depth, 64, 64, 7000);
-  struct Mode { const char* name; bool reuse; DiBiasCorrection bias; int runs, frames; bool biased; };
+  struct Mode {
+    const char* name;
+    bool reuse;
+    DiBiasCorrection bias;
+    int runs, frames;
+    bool biased;
+  };
   for (Mode mode : {Mode{"no reuse", false, DiBiasCorrection::Pairwise, 1024, 1, false},
                     Mode{"pairwise", true, DiBiasCorrection::Pairwise, 512, 4, false},
                     Mode{"basic", true, DiBiasCorrection::Basic, 512, 4, false},
@@ -142,8 +148,10 @@ TEST(Unbiased, RestirGi) {
     s.gi_reuse.spatial_radius = 8.0f;
     const testing::Verdict v = testing::compare_runs(restir_runs(scene, s, mode.runs, mode.frames, 500), reference);
     const std::string name = std::string("restir gi ") + mode.name;
-    if (mode.biased) testing::expect_biased(name, v);
-    else testing::expect_unbiased(name, v, 0.01);
+    if (mode.biased)
+      testing::expect_biased(name, v);
+    else
+      testing::expect_unbiased(name, v, 0.01);
   }
 }
 
@@ -177,8 +185,10 @@ TEST(Unbiased, RestirGiAcrossOccluders) {
     s.gi_reuse.mis_visibility = visibility;
     s.gi_reuse.spatial_radius = 8.0f;
     const testing::Verdict v = testing::compare_runs(restir_runs(scene, s, runs, frames, 900), reference);
-    if (visibility) testing::expect_unbiased("restir gi across occluders", v, 0.02);
-    else testing::expect_biased("restir gi across occluders, no visibility", v);
+    if (visibility)
+      testing::expect_unbiased("restir gi across occluders", v, 0.02);
+    else
+      testing::expect_biased("restir gi across occluders, no visibility", v);
   }
 }
 
@@ -206,7 +216,8 @@ TEST(Unbiased, FlythroughCity) {
       return renderer.image();
     });
     const testing::Verdict v = testing::compare_runs(flythrough_runs(scene, s, runs, frames, 300), reference);
-    testing::expect_unbiased(method == Method::RestirDi ? "city fly-through, restir-di" : "city fly-through, restir", v, 0.07);
+    testing::expect_unbiased(method == Method::RestirDi ? "city fly-through, restir-di" : "city fly-through, restir", v,
+                             0.07);
   }
 }
 
@@ -230,9 +241,12 @@ TEST(Unbiased, MovingLights) {
     RenderSettings s = run_settings(w, h, Method::RestirDi, 0);
     s.di_reuse.spatial_radius = 6.0f;
     s.stale_light_history = stale;
-    const testing::Verdict v = testing::compare_runs(testing::renderer_runs(scene, s, runs, frames, 100, 30.0f), reference);
-    if (stale) testing::expect_biased("moving lights, stale placement", v);
-    else testing::expect_unbiased("moving lights", v, 0.01);
+    const testing::Verdict v =
+        testing::compare_runs(testing::renderer_runs(scene, s, runs, frames, 100, 30.0f), reference);
+    if (stale)
+      testing::expect_biased("moving lights, stale placement", v);
+    else
+      testing::expect_unbiased("moving lights", v, 0.01);
   }
 }
 
@@ -254,7 +268,8 @@ TEST(Unbiased, SobolSamples) {
       s.sampler = sequence;
       const testing::Verdict v = testing::compare_runs(testing::renderer_runs(scene, s, runs, 1, 500), reference);
       testing::expect_unbiased(std::string(depth == 1 ? "direct, " : "path tracer, ") +
-                                   (sequence == SampleSequence::Sobol ? "sobol" : "zsobol"), v, 0.01);
+                                   (sequence == SampleSequence::Sobol ? "sobol" : "zsobol"),
+                               v, 0.01);
     }
   }
 }
@@ -286,7 +301,8 @@ TEST(Statistics, HarnessSeesLocalAndGlobalBias) {
       Rng rng(seed, uint64_t(run));
       Image img(32, 16);
       for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 32; ++x) img.pixels[size_t(y) * 32 + x] = vec3((x < 16 ? left : right) * (0.5f + rng.next_float()));
+        for (int x = 0; x < 32; ++x)
+          img.pixels[size_t(y) * 32 + x] = vec3((x < 16 ? left : right) * (0.5f + rng.next_float()));
       return img;
     });
   };

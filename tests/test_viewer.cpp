@@ -156,9 +156,10 @@ TEST(ViewerHeadless, ScreenshotMatchesRenderOutsideTheHud) {
         worst_outside = std::max(worst_outside, d);
       }
     }
-  std::printf("outside the HUD: %zu pixels (%.1f%% of the frame), largest difference %.4f; inside: %zu pixels, %.1f%% differ\n",
-              outside, 100.0 * double(outside) / (double(view.width) * view.height), worst_outside, inside,
-              100.0 * double(inside_differs) / double(inside));
+  std::printf(
+      "outside the HUD: %zu pixels (%.1f%% of the frame), largest difference %.4f; inside: %zu pixels, %.1f%% differ\n",
+      outside, 100.0 * double(outside) / (double(view.width) * view.height), worst_outside, inside,
+      100.0 * double(inside_differs) / double(inside));
   EXPECT_GT(outside, size_t(view.width) * view.height / 4);
   EXPECT_LE(worst_outside, 1.0f / 255.0f + 1e-6f);
   EXPECT_GT(double(inside_differs), 0.2 * double(inside));
@@ -217,8 +218,10 @@ TEST(ViewerHeadless, DynamicResolutionFollowsTheTarget) {
     }
     const int width = viewer.renderer().settings().width;
     std::printf("target %.0f FPS: render width after 60 frames %d\n", target, width);
-    if (target > 1000.0f) EXPECT_LE(width, 32);
-    else EXPECT_EQ(width, 320);
+    if (target > 1000.0f)
+      EXPECT_LE(width, 32);
+    else
+      EXPECT_EQ(width, 320);
     EXPECT_EQ(viewer.frame_times().size(), 59u);
   }
 }

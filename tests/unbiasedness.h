@@ -143,13 +143,13 @@ inline Runs renderer_runs(const Scene& scene, const RenderSettings& base, int ru
 
 // The verdict of comparing an estimator's runs with a reference's.
 struct Verdict {
-  double mean = 0.0, reference = 0.0;  // image means, averaged over runs
-  double standard_error = 0.0;         // of the difference
+  double mean = 0.0, reference = 0.0;                  // image means, averaged over runs
+  double standard_error = 0.0;                         // of the difference
   double estimate_error = 0.0, reference_error = 0.0;  // of each mean
-  double z = 0.0;                      // the image-mean test's normal deviate
+  double z = 0.0;                                      // the image-mean test's normal deviate
   double chi_square = 0.0, p_value = 1.0;
   int dof = 0;
-  double detectable = 0.0;             // smallest bias detected with 95% power, relative to the reference
+  double detectable = 0.0;  // smallest bias detected with 95% power, relative to the reference
   bool mean_passes() const { return std::abs(z) < 4.0; }
   bool tiles_pass() const { return p_value > 1e-4; }
   bool unbiased() const { return mean_passes() && tiles_pass(); }
@@ -177,17 +177,20 @@ inline Verdict compare_runs(const Runs& estimate, const Runs& reference) {
 }
 
 inline void print_verdict(const std::string& name, const Verdict& v) {
-  std::printf("%-34s mean %.5f (SE %.2f%%) vs reference %.5f (SE %.2f%%): %+.2f%% (z %+.2f), tiles chi2 %.1f / %d dof "
-              "(p %.2g); detects %.2f%% at 95%% power\n", name.c_str(), v.mean, 100.0 * v.estimate_error / v.reference,
-              v.reference, 100.0 * v.reference_error / v.reference, 100.0 * (v.mean - v.reference) / v.reference, v.z,
-              v.chi_square, v.dof, v.p_value, 100.0 * v.detectable);
+  std::printf(
+      "%-34s mean %.5f (SE %.2f%%) vs reference %.5f (SE %.2f%%): %+.2f%% (z %+.2f), tiles chi2 %.1f / %d dof "
+      "(p %.2g); detects %.2f%% at 95%% power\n",
+      name.c_str(), v.mean, 100.0 * v.estimate_error / v.reference, v.reference,
+      100.0 * v.reference_error / v.reference, 100.0 * (v.mean - v.reference) / v.reference, v.z, v.chi_square, v.dof,
+      v.p_value, 100.0 * v.detectable);
 }
 
 // Fails the test unless both tests pass and the setting detects a bias of `detectable` (relative).
 inline void expect_unbiased(const std::string& name, const Verdict& v, double detectable) {
   print_verdict(name, v);
   EXPECT_TRUE(v.mean_passes()) << name << ": image mean off by " << v.z << " standard errors";
-  EXPECT_TRUE(v.tiles_pass()) << name << ": tiles chi-square " << v.chi_square << " with " << v.dof << " dof, p " << v.p_value;
+  EXPECT_TRUE(v.tiles_pass()) << name << ": tiles chi-square " << v.chi_square << " with " << v.dof << " dof, p "
+                              << v.p_value;
   EXPECT_LE(v.detectable, detectable) << name << ": the setting is too noisy to detect the bias it claims to";
 }
 

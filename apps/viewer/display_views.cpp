@@ -32,14 +32,17 @@ bool display_view_available(DisplayView view, const Renderer& renderer) {
   return !reservoir || renderer.di_reservoirs().size() == renderer.gbuffer().size();
 }
 
-bool display_view_tonemapped(DisplayView view) { return view == DisplayView::Radiance || view == DisplayView::ReservoirW; }
+bool display_view_tonemapped(DisplayView view) {
+  return view == DisplayView::Radiance || view == DisplayView::ReservoirW;
+}
 
 Image display_view_image(const Renderer& renderer, DisplayView view) {
   const GBuffer& g = renderer.gbuffer();
   if (view == DisplayView::Radiance || g.size() == 0) return renderer.image();
   if (view == DisplayView::ReservoirM || view == DisplayView::ReservoirW) {
     if (!display_view_available(view, renderer)) return Image(g.width, g.height);
-    Image image = di_reservoir_image(g, renderer.di_reservoirs(), view == DisplayView::ReservoirM ? DiAov::M : DiAov::W);
+    Image image =
+        di_reservoir_image(g, renderer.di_reservoirs(), view == DisplayView::ReservoirM ? DiAov::M : DiAov::W);
     if (view == DisplayView::ReservoirM) {
       float max_m = 0.0f;
       for (const vec3& p : image.pixels) max_m = std::max(max_m, p.x);

@@ -7,8 +7,8 @@
 namespace candela {
 
 enum class DisplayView { Radiance, Albedo, Normal, Depth, Motion, ReservoirM, ReservoirW };
-inline constexpr DisplayView kDisplayViews[] = {DisplayView::Radiance, DisplayView::Albedo, DisplayView::Normal,
-                                                DisplayView::Depth,    DisplayView::Motion, DisplayView::ReservoirM,
+inline constexpr DisplayView kDisplayViews[] = {DisplayView::Radiance,  DisplayView::Albedo, DisplayView::Normal,
+                                                DisplayView::Depth,     DisplayView::Motion, DisplayView::ReservoirM,
                                                 DisplayView::ReservoirW};
 const char* display_view_name(DisplayView view);    // as the HUD labels it ("reservoir M")
 const char* display_view_option(DisplayView view);  // as the command line names it ("reservoir-m")

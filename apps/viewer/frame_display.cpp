@@ -42,9 +42,11 @@ void FrameDisplay::upload(const Rgba8Image& frame) {
   if (frame.width != texture_width_ || frame.height != texture_height_) {
     texture_width_ = frame.width;
     texture_height_ = frame.height;
-    gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, frame.width, frame.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, frame.pixels.data());
+    gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, frame.width, frame.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                   frame.pixels.data());
   } else {
-    gl_.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, frame.width, frame.height, GL_RGBA, GL_UNSIGNED_BYTE, frame.pixels.data());
+    gl_.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, frame.width, frame.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                      frame.pixels.data());
   }
 }
 
@@ -64,7 +66,8 @@ void FrameDisplay::draw(int framebuffer_width, int framebuffer_height) {
 }
 
 Rgba8Image FrameDisplay::read_framebuffer(int framebuffer_width, int framebuffer_height) const {
-  Rgba8Image out{framebuffer_width, framebuffer_height, std::vector<uint8_t>(size_t(framebuffer_width) * framebuffer_height * 4)};
+  Rgba8Image out{framebuffer_width, framebuffer_height,
+                 std::vector<uint8_t>(size_t(framebuffer_width) * framebuffer_height * 4)};
   std::vector<uint8_t> bottom_up(out.pixels.size());
   gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
   gl_.ReadPixels(0, 0, framebuffer_width, framebuffer_height, GL_RGBA, GL_UNSIGNED_BYTE, bottom_up.data());

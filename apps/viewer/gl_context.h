@@ -15,12 +15,12 @@ using GlGetProcAddress = GlProc (*)(const char* name);
 // What happened since the last poll: sizes, the mouse, the keys the viewer and the HUD read.
 struct WindowInput {
   int framebuffer_width = 0, framebuffer_height = 0;  // 0 x 0 while the window is minimised
-  int window_width = 0, window_height = 0;           // in screen coordinates (mouse positions use these)
+  int window_width = 0, window_height = 0;            // in screen coordinates (mouse positions use these)
   bool close_requested = false;
   bool focused = true;
   double mouse_x = -1.0, mouse_y = -1.0;  // window coordinates; negative: no mouse
-  bool mouse_down[3] = {};               // left, right, middle
-  float scroll = 0.0f;                   // wheel steps since the last poll (up positive)
+  bool mouse_down[3] = {};                // left, right, middle
+  float scroll = 0.0f;                    // wheel steps since the last poll (up positive)
   // Keys held now, by the character printed on them ('W', 'A', ...), and the navigation keys ImGui's text
   // fields need; `typed` are the characters entered since the last poll.
   bool key_down[512] = {};
@@ -30,8 +30,21 @@ struct WindowInput {
 
 // Key indices in WindowInput::key_down besides printable ASCII (upper-case letters, digits).
 enum ViewerKey : int {
-  kKeyTab = 256, kKeyLeft, kKeyRight, kKeyUp, kKeyDown, kKeyPageUp, kKeyPageDown, kKeyHome, kKeyEnd,
-  kKeyInsert, kKeyDelete, kKeyBackspace, kKeySpace, kKeyEnter, kKeyEscape
+  kKeyTab = 256,
+  kKeyLeft,
+  kKeyRight,
+  kKeyUp,
+  kKeyDown,
+  kKeyPageUp,
+  kKeyPageDown,
+  kKeyHome,
+  kKeyEnd,
+  kKeyInsert,
+  kKeyDelete,
+  kKeyBackspace,
+  kKeySpace,
+  kKeyEnter,
+  kKeyEscape
 };
 
 class GlContext {

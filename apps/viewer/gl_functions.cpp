@@ -6,8 +6,8 @@
 namespace candela {
 
 GlFunctions::GlFunctions(GlGetProcAddress get) {
-#define CANDELA_GL_LOAD(type, name)                                                       \
-  name = reinterpret_cast<type>(get("gl" #name));                                         \
+#define CANDELA_GL_LOAD(type, name)               \
+  name = reinterpret_cast<type>(get("gl" #name)); \
   if (!name) throw std::runtime_error("OpenGL: the context does not provide gl" #name);
   CANDELA_GL_FUNCTIONS(CANDELA_GL_LOAD)
 #undef CANDELA_GL_LOAD
@@ -31,7 +31,8 @@ static GLuint compile_shader(const GlFunctions& gl, GLenum stage, const char* so
   GLuint shader = gl.CreateShader(stage);
   gl.ShaderSource(shader, 1, &source, nullptr);
   gl.CompileShader(shader);
-  check_status(shader, GL_COMPILE_STATUS, gl.GetShaderiv, gl.GetShaderInfoLog, gl.DeleteShader, "shader does not compile");
+  check_status(shader, GL_COMPILE_STATUS, gl.GetShaderiv, gl.GetShaderInfoLog, gl.DeleteShader,
+               "shader does not compile");
   return shader;
 }
 
@@ -44,7 +45,8 @@ GLuint link_program(const GlFunctions& gl, const char* vertex_source, const char
   gl.LinkProgram(program);
   gl.DeleteShader(vs);
   gl.DeleteShader(fs);
-  check_status(program, GL_LINK_STATUS, gl.GetProgramiv, gl.GetProgramInfoLog, gl.DeleteProgram, "program does not link");
+  check_status(program, GL_LINK_STATUS, gl.GetProgramiv, gl.GetProgramInfoLog, gl.DeleteProgram,
+               "program does not link");
   return program;
 }
 

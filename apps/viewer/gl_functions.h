@@ -9,7 +9,8 @@
 
 namespace candela {
 
-// X(type, name): one entry per function; the member `gl.Name` holds glName.
+// X(type, name): one entry per function; the member `gl.Name` holds glName. Two entries per line, by hand.
+// clang-format off
 #define CANDELA_GL_FUNCTIONS(X)                                                            \
   X(PFNGLVIEWPORTPROC, Viewport) X(PFNGLSCISSORPROC, Scissor)                              \
   X(PFNGLCLEARCOLORPROC, ClearColor) X(PFNGLCLEARPROC, Clear)                              \
@@ -34,6 +35,7 @@ namespace candela {
   X(PFNGLBUFFERDATAPROC, BufferData) X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
   X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer) X(PFNGLDRAWARRAYSPROC, DrawArrays)  \
   X(PFNGLDRAWELEMENTSBASEVERTEXPROC, DrawElementsBaseVertex)
+// clang-format on
 
 struct GlFunctions {
 #define CANDELA_GL_MEMBER(type, name) type name = nullptr;

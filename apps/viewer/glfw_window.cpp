@@ -61,11 +61,21 @@ class GlfwWindow final : public GlContext {
     auto down = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS; };
     for (int c = GLFW_KEY_0; c <= GLFW_KEY_9; ++c) in.key_down[c] = down(c);  // GLFW numbers these as ASCII
     for (int c = GLFW_KEY_A; c <= GLFW_KEY_Z; ++c) in.key_down[c] = down(c);
-    const int named[][2] = {{kKeyTab, GLFW_KEY_TAB},       {kKeyLeft, GLFW_KEY_LEFT},     {kKeyRight, GLFW_KEY_RIGHT},
-                            {kKeyUp, GLFW_KEY_UP},         {kKeyDown, GLFW_KEY_DOWN},     {kKeyPageUp, GLFW_KEY_PAGE_UP},
-                            {kKeyPageDown, GLFW_KEY_PAGE_DOWN}, {kKeyHome, GLFW_KEY_HOME}, {kKeyEnd, GLFW_KEY_END},
-                            {kKeyInsert, GLFW_KEY_INSERT}, {kKeyDelete, GLFW_KEY_DELETE}, {kKeyBackspace, GLFW_KEY_BACKSPACE},
-                            {kKeySpace, GLFW_KEY_SPACE},   {kKeyEnter, GLFW_KEY_ENTER},   {kKeyEscape, GLFW_KEY_ESCAPE}};
+    const int named[][2] = {{kKeyTab, GLFW_KEY_TAB},
+                            {kKeyLeft, GLFW_KEY_LEFT},
+                            {kKeyRight, GLFW_KEY_RIGHT},
+                            {kKeyUp, GLFW_KEY_UP},
+                            {kKeyDown, GLFW_KEY_DOWN},
+                            {kKeyPageUp, GLFW_KEY_PAGE_UP},
+                            {kKeyPageDown, GLFW_KEY_PAGE_DOWN},
+                            {kKeyHome, GLFW_KEY_HOME},
+                            {kKeyEnd, GLFW_KEY_END},
+                            {kKeyInsert, GLFW_KEY_INSERT},
+                            {kKeyDelete, GLFW_KEY_DELETE},
+                            {kKeyBackspace, GLFW_KEY_BACKSPACE},
+                            {kKeySpace, GLFW_KEY_SPACE},
+                            {kKeyEnter, GLFW_KEY_ENTER},
+                            {kKeyEscape, GLFW_KEY_ESCAPE}};
     for (const auto& [ours, glfw] : named) in.key_down[ours] = down(glfw);
     in.shift = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT);
     in.ctrl = down(GLFW_KEY_LEFT_CONTROL) || down(GLFW_KEY_RIGHT_CONTROL);
@@ -80,8 +90,10 @@ class GlfwWindow final : public GlContext {
   // so while minimised the framebuffer is also reported as 0 x 0, as a window manager would make it.
   void set_minimised(bool minimised) override {
     forced_minimised_ = minimised;
-    if (minimised) glfwIconifyWindow(window_);
-    else glfwRestoreWindow(window_);
+    if (minimised)
+      glfwIconifyWindow(window_);
+    else
+      glfwRestoreWindow(window_);
   }
 
  private:

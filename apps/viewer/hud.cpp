@@ -127,7 +127,8 @@ bool setting_widget(const Setting& row, RenderSettings& s) {
     if ((done = combo(label.c_str(), index, names))) row.set(s, double(row.values[size_t(index)]));
   } else if (row.type == SettingType::Int) {
     int v = int(value);
-    if (ImGui::SliderInt(label.c_str(), &v, int(row.min), int(top))) row.set(s, std::clamp(double(v), row.min, row.max));
+    if (ImGui::SliderInt(label.c_str(), &v, int(row.min), int(top)))
+      row.set(s, std::clamp(double(v), row.min, row.max));
     done = ImGui::IsItemDeactivatedAfterEdit();
   } else if (row.type == SettingType::Float) {
     float v = float(value);
@@ -177,9 +178,10 @@ HudActions draw_hud(HudState& state, const FrameHistory& history, const Renderer
     if (history.size() > 0) {
       const double frame_ms = history.frame_ms(history.size() - 1);
       const FrameStats& last = history.stats(history.size() - 1);
-      ImGui::Text("%dx%d  frame %d  %d spp accumulated", renderer.settings().width, renderer.settings().height, last.frame,
-                  renderer.accumulated_spp());
-      ImGui::Text("frame %.1f ms (%.1f FPS), render %.1f ms", frame_ms, 1000.0 / std::max(frame_ms, 1e-3), last.total_ms);
+      ImGui::Text("%dx%d  frame %d  %d spp accumulated", renderer.settings().width, renderer.settings().height,
+                  last.frame, renderer.accumulated_spp());
+      ImGui::Text("frame %.1f ms (%.1f FPS), render %.1f ms", frame_ms, 1000.0 / std::max(frame_ms, 1e-3),
+                  last.total_ms);
       // NaN/Inf values the stages dropped (they should never occur): red as soon as one did in the graph's frames.
       uint64_t recent_non_finite = 0;
       for (size_t f = 0; f < history.size(); ++f) recent_non_finite += history.stats(f).non_finite();
@@ -203,7 +205,8 @@ HudActions draw_hud(HudState& state, const FrameHistory& history, const Renderer
       draw_stage_graph(history);
     }
     ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.55f);  // leaves room for the labels
-    if (ImGui::CollapsingHeader("Renderer", ImGuiTreeNodeFlags_DefaultOpen)) actions.settings_changed |= draw_renderer_settings(state);
+    if (ImGui::CollapsingHeader("Renderer", ImGuiTreeNodeFlags_DefaultOpen))
+      actions.settings_changed |= draw_renderer_settings(state);
     for (SettingGroup group : {SettingGroup::RestirDi, SettingGroup::RestirGi}) {
       if (!ImGui::CollapsingHeader(setting_group_name(group))) continue;
       ImGui::PushID(int(group));  // the DI and GI widgets share their labels
@@ -218,8 +221,8 @@ HudActions draw_hud(HudState& state, const FrameHistory& history, const Renderer
         if (v != DisplayView::Normal && v != DisplayView::Motion && v != DisplayView::ReservoirW) ImGui::SameLine();
       }
       ImGui::SliderFloat("exposure", &state.exposure, 0.01f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-      ImGui::Text("camera (%.1f, %.1f, %.1f) -> (%.1f, %.1f, %.1f)", camera.position.x, camera.position.y, camera.position.z,
-                  camera.target.x, camera.target.y, camera.target.z);
+      ImGui::Text("camera (%.1f, %.1f, %.1f) -> (%.1f, %.1f, %.1f)", camera.position.x, camera.position.y,
+                  camera.position.z, camera.target.x, camera.target.y, camera.target.z);
       ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
       ImGui::TextWrapped("orbit: left drag, wheel; fly: right drag + WASD QE (shift: faster)");
       ImGui::PopStyleColor();

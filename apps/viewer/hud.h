@@ -36,9 +36,9 @@ struct HudState {
   float dynamic_scale = 1.0f;  // shown: dynamic resolution's factor on `scale`
   DisplayView view = DisplayView::Radiance;
   float exposure = 1.0f;
-  bool pause_time = false;     // freeze scene time (animated scenes then accumulate too)
+  bool pause_time = false;                     // freeze scene time (animated scenes then accumulate too)
   char screenshot_base[256] = "candela_view";  // screenshots go to BASE.png / BASE.exr
-  std::string status;          // last screenshot result or error, shown under the buttons
+  std::string status;                          // last screenshot result or error, shown under the buttons
 };
 
 struct HudActions {

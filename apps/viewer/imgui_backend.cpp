@@ -30,13 +30,27 @@ ImGuiBackend::ImGuiBackend(const GlFunctions& gl) : gl_(gl) {
   io.BackendRendererName = "candela_gl33";
   io.BackendPlatformName = "candela_window_input";
   io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;
-  const std::pair<ImGuiKey_, int> keys[] = {
-      {ImGuiKey_Tab, kKeyTab},         {ImGuiKey_LeftArrow, kKeyLeft}, {ImGuiKey_RightArrow, kKeyRight},
-      {ImGuiKey_UpArrow, kKeyUp},      {ImGuiKey_DownArrow, kKeyDown}, {ImGuiKey_PageUp, kKeyPageUp},
-      {ImGuiKey_PageDown, kKeyPageDown}, {ImGuiKey_Home, kKeyHome},    {ImGuiKey_End, kKeyEnd},
-      {ImGuiKey_Insert, kKeyInsert},   {ImGuiKey_Delete, kKeyDelete},  {ImGuiKey_Backspace, kKeyBackspace},
-      {ImGuiKey_Space, kKeySpace},     {ImGuiKey_Enter, kKeyEnter},    {ImGuiKey_Escape, kKeyEscape},
-      {ImGuiKey_A, 'A'}, {ImGuiKey_C, 'C'}, {ImGuiKey_V, 'V'}, {ImGuiKey_X, 'X'}, {ImGuiKey_Y, 'Y'}, {ImGuiKey_Z, 'Z'}};
+  const std::pair<ImGuiKey_, int> keys[] = {{ImGuiKey_Tab, kKeyTab},
+                                            {ImGuiKey_LeftArrow, kKeyLeft},
+                                            {ImGuiKey_RightArrow, kKeyRight},
+                                            {ImGuiKey_UpArrow, kKeyUp},
+                                            {ImGuiKey_DownArrow, kKeyDown},
+                                            {ImGuiKey_PageUp, kKeyPageUp},
+                                            {ImGuiKey_PageDown, kKeyPageDown},
+                                            {ImGuiKey_Home, kKeyHome},
+                                            {ImGuiKey_End, kKeyEnd},
+                                            {ImGuiKey_Insert, kKeyInsert},
+                                            {ImGuiKey_Delete, kKeyDelete},
+                                            {ImGuiKey_Backspace, kKeyBackspace},
+                                            {ImGuiKey_Space, kKeySpace},
+                                            {ImGuiKey_Enter, kKeyEnter},
+                                            {ImGuiKey_Escape, kKeyEscape},
+                                            {ImGuiKey_A, 'A'},
+                                            {ImGuiKey_C, 'C'},
+                                            {ImGuiKey_V, 'V'},
+                                            {ImGuiKey_X, 'X'},
+                                            {ImGuiKey_Y, 'Y'},
+                                            {ImGuiKey_Z, 'Z'}};
   for (const auto& [imgui_key, ours] : keys) io.KeyMap[imgui_key] = ours;
 
   program_ = link_program(gl_, kImGuiVertex, kImGuiFragment);
@@ -84,7 +98,8 @@ void ImGuiBackend::new_frame(const WindowInput& in, float dt) {
     io.DisplayFramebufferScale = ImVec2(float(in.framebuffer_width) / float(in.window_width),
                                         float(in.framebuffer_height) / float(in.window_height));
   io.DeltaTime = dt > 0.0f ? dt : 1e-4f;
-  io.MousePos = in.focused && in.mouse_x >= 0.0 ? ImVec2(float(in.mouse_x), float(in.mouse_y)) : ImVec2(-FLT_MAX, -FLT_MAX);
+  io.MousePos =
+      in.focused && in.mouse_x >= 0.0 ? ImVec2(float(in.mouse_x), float(in.mouse_y)) : ImVec2(-FLT_MAX, -FLT_MAX);
   for (int b = 0; b < 3; ++b) io.MouseDown[b] = in.mouse_down[b];
   io.MouseWheel += in.scroll;
   for (int k = 0; k < 512; ++k) io.KeysDown[k] = in.key_down[k];
@@ -109,8 +124,8 @@ void ImGuiBackend::render(int framebuffer_width, int framebuffer_height) {
   gl_.Enable(GL_SCISSOR_TEST);
   // Orthographic projection of ImGui's display rectangle onto clip space, y down.
   const float l = data->DisplayPos.x, r = l + data->DisplaySize.x, t = data->DisplayPos.y, b = t + data->DisplaySize.y;
-  const float projection[16] = {2.0f / (r - l), 0, 0, 0, 0, 2.0f / (t - b), 0, 0, 0, 0, -1, 0,
-                                (r + l) / (l - r), (t + b) / (b - t), 0, 1};
+  const float projection[16] = {2.0f / (r - l),    0, 0, 0, 0, 2.0f / (t - b), 0, 0, 0, 0, -1, 0, (r + l) / (l - r),
+                                (t + b) / (b - t), 0, 1};
   gl_.UseProgram(program_);
   gl_.UniformMatrix4fv(projection_location_, 1, GL_FALSE, projection);
   gl_.Uniform1i(texture_location_, 0);
@@ -119,7 +134,8 @@ void ImGuiBackend::render(int framebuffer_width, int framebuffer_height) {
   const ImVec2 scale = data->FramebufferScale;
   for (int n = 0; n < data->CmdListsCount; ++n) {
     const ImDrawList* list = data->CmdLists[n];
-    gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(list->VtxBuffer.Size) * sizeof(ImDrawVert), list->VtxBuffer.Data, GL_STREAM_DRAW);
+    gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(list->VtxBuffer.Size) * sizeof(ImDrawVert), list->VtxBuffer.Data,
+                   GL_STREAM_DRAW);
     gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(list->IdxBuffer.Size) * sizeof(ImDrawIdx), list->IdxBuffer.Data,
                    GL_STREAM_DRAW);
     for (const ImDrawCmd& cmd : list->CmdBuffer) {
@@ -129,7 +145,8 @@ void ImGuiBackend::render(int framebuffer_width, int framebuffer_height) {
       if (x1 <= x0 || y1 <= y0) continue;
       gl_.Scissor(GLint(x0), GLint(framebuffer_height - y1), GLsizei(x1 - x0), GLsizei(y1 - y0));
       gl_.BindTexture(GL_TEXTURE_2D, GLuint(reinterpret_cast<uintptr_t>(cmd.TextureId)));
-      gl_.DrawElementsBaseVertex(GL_TRIANGLES, GLsizei(cmd.ElemCount), sizeof(ImDrawIdx) == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT,
+      gl_.DrawElementsBaseVertex(GL_TRIANGLES, GLsizei(cmd.ElemCount),
+                                 sizeof(ImDrawIdx) == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT,
                                  (void*)(cmd.IdxOffset * sizeof(ImDrawIdx)), GLint(cmd.VtxOffset));
     }
   }

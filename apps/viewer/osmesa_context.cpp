@@ -14,9 +14,19 @@ GlProc osmesa_proc(const char* name) { return reinterpret_cast<GlProc>(OSMesaGet
 class OsMesaContext final : public GlContext {
  public:
   OsMesaContext(int width, int height) : width_(width), height_(height), buffer_(size_t(width) * height) {
-    const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
-                              OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
-                              OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+    const int attributes[] = {OSMESA_FORMAT,
+                              OSMESA_RGBA,
+                              OSMESA_DEPTH_BITS,
+                              0,
+                              OSMESA_STENCIL_BITS,
+                              0,
+                              OSMESA_PROFILE,
+                              OSMESA_CORE_PROFILE,
+                              OSMESA_CONTEXT_MAJOR_VERSION,
+                              3,
+                              OSMESA_CONTEXT_MINOR_VERSION,
+                              3,
+                              0};
     context_ = OSMesaCreateContextAttribs(attributes, nullptr);
     if (!context_) throw std::runtime_error("cannot create an OSMesa OpenGL 3.3 core context");
     if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, width, height)) {

@@ -128,7 +128,8 @@ bool Viewer::step() {
     if (reconfigure_ || (resized && settled)) configure_renderer(width, height);
     dynamic_resize_ = false;
     FrameStats stats = renderer_->render_frame(frame_index_, scene_time_, camera_.desc());
-    display_->upload(to_display_pixels(display_view_image(*renderer_, hud_.view), display_view_tonemapped(hud_.view), hud_.exposure));
+    display_->upload(to_display_pixels(display_view_image(*renderer_, hud_.view), display_view_tonemapped(hud_.view),
+                                       hud_.exposure));
     display_->draw(in.framebuffer_width, in.framebuffer_height);
     if (frames_done_ > 1) {  // the first step's time is the setup's
       frame_times_.push_back(frame_ms);
@@ -186,11 +187,14 @@ int run_viewer(const Scene& scene, const RenderSettings& settings, const ViewerO
     if (!t.empty()) {
       std::sort(t.begin(), t.end());
       auto at = [&](double q) { return t[std::min(t.size() - 1, size_t(q * double(t.size())))]; };
-      std::fprintf(stderr, "frame ms median %.1f, p90 %.1f, p99 %.1f, max %.1f; last render size %dx%d, ", at(0.5), at(0.9),
-                   at(0.99), t.back(), viewer.renderer().settings().width, viewer.renderer().settings().height);
+      std::fprintf(stderr, "frame ms median %.1f, p90 %.1f, p99 %.1f, max %.1f; last render size %dx%d, ", at(0.5),
+                   at(0.9), at(0.99), t.back(), viewer.renderer().settings().width,
+                   viewer.renderer().settings().height);
     }
-    if (options.hud) std::fprintf(stderr, "HUD at %.0f %.0f size %.0f x %.0f\n", hud.x, hud.y, hud.width, hud.height);
-    else std::fprintf(stderr, "HUD off\n");
+    if (options.hud)
+      std::fprintf(stderr, "HUD at %.0f %.0f size %.0f x %.0f\n", hud.x, hud.y, hud.width, hud.height);
+    else
+      std::fprintf(stderr, "HUD off\n");
     if (!options.screenshot.empty()) std::fprintf(stderr, "wrote %s\n", options.screenshot.c_str());
   }
   return 0;

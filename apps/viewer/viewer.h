@@ -17,18 +17,18 @@
 namespace candela {
 
 struct ViewerOptions {
-  int width = 640, height = 360;  // window (headless: framebuffer) size in pixels
-  float scale = 1.0f;             // render resolution = window resolution x scale (with a target: at most)
-  float target_fps = 0.0f;        // > 0: dynamic resolution, the render scale adapts to hold this frame rate
-  bool headless = false;          // OSMesa off screen instead of a window
-  int frames = 0;                 // stop after this many frames; 0 = until the window is closed
-  std::string screenshot;         // after the last frame, the framebuffer (frame + HUD) as PNG
+  int width = 640, height = 360;         // window (headless: framebuffer) size in pixels
+  float scale = 1.0f;                    // render resolution = window resolution x scale (with a target: at most)
+  float target_fps = 0.0f;               // > 0: dynamic resolution, the render scale adapts to hold this frame rate
+  bool headless = false;                 // OSMesa off screen instead of a window
+  int frames = 0;                        // stop after this many frames; 0 = until the window is closed
+  std::string screenshot;                // after the last frame, the framebuffer (frame + HUD) as PNG
   float orbit_degrees_per_frame = 0.0f;  // the camera orbits its target on its own by this much per frame
-  float fps = 30.0f;              // scene time advances 1/fps seconds per frame
+  float fps = 30.0f;                     // scene time advances 1/fps seconds per frame
   float exposure = 1.0f;
   DisplayView view = DisplayView::Radiance;  // what is shown first
-  int test_minimise_frame = -1;   // test hook: minimise the window for 3 frames starting at this frame
-  bool hud = true;                // draw the HUD over the frame (false: --no-hud, the frame alone)
+  int test_minimise_frame = -1;              // test hook: minimise the window for 3 frames starting at this frame
+  bool hud = true;                           // draw the HUD over the frame (false: --no-hud, the frame alone)
   bool quiet = false;
 };
 
@@ -65,15 +65,15 @@ class Viewer {
   HudState hud_;
   HudRect hud_rect_;
   FrameHistory history_;
-  int frames_done_ = 0;       // loop iterations, drawn or minimised
-  int frame_index_ = 0;       // the Renderer's frame number (random streams)
+  int frames_done_ = 0;  // loop iterations, drawn or minimised
+  int frame_index_ = 0;  // the Renderer's frame number (random streams)
   float scene_time_ = 0.0f;
-  bool reconfigure_ = false;  // the HUD changed a setting: the Renderer takes the HUD's settings
-  float dynamic_scale_ = 1.0f;   // dynamic resolution's factor on the HUD's scale (1 without a target)
+  bool reconfigure_ = false;    // the HUD changed a setting: the Renderer takes the HUD's settings
+  float dynamic_scale_ = 1.0f;  // dynamic resolution's factor on the HUD's scale (1 without a target)
   double average_frame_ms_ = 0.0;
-  int frames_at_scale_ = 0;      // frames since the dynamic scale last changed
-  bool dynamic_resize_ = false;  // it changed: the next frame takes the new size without waiting
-  std::vector<double> frame_times_;  // every drawn frame's loop time (ms), for the exit summary
+  int frames_at_scale_ = 0;                             // frames since the dynamic scale last changed
+  bool dynamic_resize_ = false;                         // it changed: the next frame takes the new size without waiting
+  std::vector<double> frame_times_;                     // every drawn frame's loop time (ms), for the exit summary
   int framebuffer_width_ = 0, framebuffer_height_ = 0;  // of the last frame drawn
   int pending_width_ = 0, pending_height_ = 0;          // the latest render size asked for, and since when
   std::chrono::steady_clock::time_point pending_since_;

@@ -18,7 +18,8 @@ inline std::string write_input_file(const uint8_t* bytes, size_t size, const std
     return std::string(pattern);
   }();
   std::string path = dir + "/input." + extension;
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(bytes), std::streamsize(size));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(bytes), std::streamsize(size));
   return path;
 }
 
