@@ -9,6 +9,7 @@
 #include <optional>
 #include <set>
 
+#include "apps/aovs.h"
 #include "apps/bench.h"
 #include "apps/converge.h"
 #include "apps/renderer.h"
@@ -40,7 +41,8 @@ struct RenderOptions {
   int lights = 1024;
   float environment = -1.0f;  // < 0: the default rule (apply_default_environment)
   bool quiet = false;
-  std::string aov = "none";
+  std::string aov = "radiance";   // render: what --out holds (apps/aovs.h)
+  std::string show = "radiance";  // view: what is displayed first
   RenderSettings settings;
 };
 
@@ -87,7 +89,8 @@ int run_render(RenderOptions& o) {
   }
   check_output_path(o.out, {".exr", ".png"}, "--out");
   const bool restir = o.settings.method == Method::RestirDi || o.settings.method == Method::Restir;
-  if (o.aov != "none" && !restir) throw InputError("--aov " + o.aov + ": needs --method restir-di or restir");
+  const AovInfo& aov = *find_aov(o.aov);  // the option checked the name
+  if (aov.restir && !restir) throw InputError("--aov " + o.aov + ": needs --method restir-di or restir");
   if (!o.stats.empty()) check_output_path(o.stats, {".json"}, "--stats");
   check_settings(o);
   auto t0 = std::chrono::steady_clock::now();
@@ -117,12 +120,7 @@ int run_render(RenderOptions& o) {
     }
     all.push_back(std::move(stats));
   }
-  if (o.aov == "none") {
-    write_image(o.out, renderer.image(), o.exposure);
-  } else {
-    DiAov kind = o.aov == "reservoir-m" ? DiAov::M : o.aov == "reservoir-w" ? DiAov::W : DiAov::Light;
-    write_image(o.out, di_reservoir_image(renderer.gbuffer(), renderer.di_reservoirs(), kind), o.exposure);
-  }
+  write_aov(o.out, renderer, aov.aov, o.exposure);
   if (!o.stats.empty()) write_json_file(o.stats, stats_to_json(all));
   if (!o.quiet) std::fprintf(stderr, "wrote %s (%d spp accumulated)\n", o.out.c_str(), renderer.accumulated_spp());
   return 0;
@@ -133,10 +131,9 @@ int run_view(RenderOptions& o, ViewerOptions& v) {
   if (o.scene.empty()) throw InputError("view: give a SCENE (builtin:NAME or a .gltf/.glb file)");
   if (!v.screenshot.empty()) check_output_path(v.screenshot, {".png"}, "--screenshot");
   if (v.headless && v.frames == 0) throw InputError("--headless needs --frames N");
-  bool reservoir_view = v.view == DisplayView::ReservoirM || v.view == DisplayView::ReservoirW;
   const bool restir = o.settings.method == Method::RestirDi || o.settings.method == Method::Restir;
-  if (reservoir_view && !restir)
-    throw InputError("--show " + std::string(display_view_option(v.view)) + ": needs --method restir-di or restir");
+  v.view = find_aov(o.show)->aov;  // the option checked the name
+  if (aov_info(v.view).restir && !restir) throw InputError("--show " + o.show + ": needs --method restir-di or restir");
   check_settings(o);
   v.width = o.settings.width;
   v.height = o.settings.height;
@@ -215,11 +212,11 @@ int main(int argc, char** argv) {
   render->add_option("--stop-after", r.stop_after, "--script: stop after writing this many frames")
       ->check(CLI::Range(0, 1 << 30));
   render
-      ->add_option(
-          "--aov", r.aov,
-          "Write a debug view instead of radiance: reservoir-m (confidence M), reservoir-w (contribution "
-          "weight W), reservoir-light (chosen light, hashed colour); restir-di and restir (ReSTIR DI's reservoirs)")
-      ->check(CLI::IsMember({"none", "reservoir-m", "reservoir-w", "reservoir-light"}))
+      ->add_option("--aov", r.aov,
+                   "What --out holds: radiance or a debug image of the G-buffer (albedo, normal, depth, motion) or of "
+                   "ReSTIR DI's reservoirs (reservoir-m, reservoir-w, reservoir-light; restir-di and restir); EXR "
+                   "holds its values, PNG shows it as the viewer does (docs/settings.md, \"Debug images\")")
+      ->check(CLI::IsMember(aov_names()))
       ->capture_default_str();
   render->add_option("--stats", r.stats, "Write per-frame stage timings and ray counts as JSON");
   bool help_markdown = false;
@@ -248,12 +245,8 @@ int main(int argc, char** argv) {
   view->add_option("--camera-orbit", viewer.orbit_degrees_per_frame,
                    "The camera orbits its target by this many degrees per frame")
       ->check(CLI::Range(-360.0f, 360.0f));
-  std::map<std::string, DisplayView> views;
-  for (DisplayView v : kDisplayViews) views[display_view_option(v)] = v;
-  view->add_option("--show", viewer.view,
-                   "What is displayed first: radiance, or a debug view of the G-buffer (albedo, normal, "
-                   "depth, motion) or of the reservoirs (reservoir-m, reservoir-w; restir-di or restir)")
-      ->transform(CLI::CheckedTransformer(views))
+  view->add_option("--show", view_frame.show, "What is displayed first: radiance or a debug image (the names of --aov)")
+      ->check(CLI::IsMember(aov_names()))
       ->capture_default_str();
   view->add_flag(
       "--no-hud", [&viewer](int64_t) { viewer.hud = false; },
@@ -359,7 +352,10 @@ int main(int argc, char** argv) {
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
-    if (help_markdown) return std::printf("%s", settings_markdown().c_str()) < 0;
+    if (help_markdown) {
+      std::printf("%s\n### Debug images\n\n%s", settings_markdown().c_str(), aovs_markdown().c_str());
+      return 0;
+    }
     if (render->parsed()) return r.script.empty() ? run_render(r) : run_script(*render, r);
     if (view->parsed()) return run_view(view_frame, viewer);
     if (converge->parsed()) return run_converge(c);

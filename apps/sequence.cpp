@@ -6,6 +6,7 @@
 #include <fstream>
 #include <set>
 
+#include "apps/aovs.h"
 #include "apps/scene_source.h"
 #include "apps/stats_json.h"
 #include "engine/check.h"
@@ -20,32 +21,13 @@ std::vector<std::string> output_patterns(const ShotScript& script) {
   return out;
 }
 
-// The AOV `name` of the frame just rendered, from the renderer's G-buffer: albedo (base colour), normal
-// (shading normal, world space), depth (linear view depth, 0 where nothing was hit), motion (pixels to
-// last frame's position in R and G).
-Image aov_image(const GBuffer& g, const std::string& name) {
-  Image out(g.width, g.height);
-  for (size_t i = 0; i < g.size(); ++i) {
-    if (!g.hit(i)) continue;
-    if (name == "albedo")
-      out.pixels[i] = g.albedo[i];
-    else if (name == "normal")
-      out.pixels[i] = g.shading_normal[i];
-    else if (name == "depth")
-      out.pixels[i] = vec3(g.depth[i]);
-    else
-      out.pixels[i] = vec3(g.motion[i], 0.0f);
-  }
-  return out;
-}
-
 // Stage "write": every image and AOV of `frame`, each file atomically. Cost: one image encode per file.
 void write_frame(const ShotScript& script, const Renderer& renderer, int frame) {
   Image image = renderer.image();
   for (const std::string& pattern : script.output.images)
     write_image(frame_path(pattern, frame), image, script.output.exposure);
   for (const auto& [name, pattern] : script.output.aovs)
-    write_image(frame_path(pattern, frame), aov_image(renderer.gbuffer(), name));
+    write_aov(frame_path(pattern, frame), renderer, find_aov(name)->aov, script.output.exposure);
 }
 
 // Per-frame stats of this run: STATS.csv gets one row per stage and frame as each frame ends (long

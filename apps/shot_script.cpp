@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "apps/aovs.h"
 #include "apps/settings_names.h"
 #include "apps/settings_schema.h"
 #include "engine/check.h"
@@ -304,11 +305,14 @@ void read_output(ObjectReader& parent, ShotScript& s) {
       r.fail("images", "expected a path pattern or an array of them");
     for (const std::string& p : s.output.images) check_pattern(r, "images", p, false);
   }
-  for (const char* aov : {"albedo", "normal", "depth", "motion"}) {
-    std::string pattern = r.text(aov, "");
+  for (const AovInfo& aov : aov_table()) {
+    if (aov.aov == Aov::Radiance) continue;  // "images"
+    std::string pattern = r.text(aov.name, "");
     if (pattern.empty()) continue;
-    check_pattern(r, aov, pattern, true);
-    s.output.aovs[aov] = pattern;
+    check_pattern(r, aov.name, pattern, true);
+    const bool restir = s.settings.method == Method::RestirDi || s.settings.method == Method::Restir;
+    if (aov.restir && !restir) r.fail(aov.name, "needs method restir-di or restir");
+    s.output.aovs[aov.name] = pattern;
   }
   if (s.output.images.empty() && s.output.aovs.empty()) r.fail_at("output", "names no images or AOVs to write");
   s.output.stats = r.text("stats", "");

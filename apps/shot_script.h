@@ -38,7 +38,7 @@ struct PowerKeys {
 // Image outputs: patterns with one %d or %0Nd for the frame number.
 struct ShotOutput {
   std::vector<std::string> images;          // .exr (linear) and/or .png (tonemapped)
-  std::map<std::string, std::string> aovs;  // "albedo", "normal", "depth", "motion" -> .exr pattern
+  std::map<std::string, std::string> aovs;  // AOV name (apps/aovs.h: "albedo", "reservoir-m", ...) -> .exr pattern
   std::string stats;                        // base path: writes STATS.csv and STATS.json ("" = none)
   float exposure = 1.0f;                    // PNG only
 };

@@ -5,15 +5,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "apps/aovs.h"
 #include "apps/viewer/gl_functions.h"
 
 namespace candela {
-
-// 8-bit sRGB RGBA pixels, row 0 at the top.
-struct Rgba8Image {
-  int width = 0, height = 0;
-  std::vector<uint8_t> pixels;  // 4 bytes per pixel
-};
 
 class FrameDisplay {
  public:

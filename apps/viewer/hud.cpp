@@ -214,12 +214,13 @@ HudActions draw_hud(HudState& state, const FrameHistory& history, const Renderer
       ImGui::PopID();
     }
     if (ImGui::CollapsingHeader("View")) {
-      for (DisplayView v : kDisplayViews) {
-        ImGui::BeginDisabled(!display_view_available(v, renderer));
-        if (ImGui::RadioButton(display_view_name(v), state.view == v)) state.view = v;
+      for (const AovInfo& aov : aov_table()) {  // three per line
+        ImGui::BeginDisabled(!aov_available(aov.aov, renderer));
+        if (ImGui::RadioButton(aov.name, state.view == aov.aov)) state.view = aov.aov;
         ImGui::EndDisabled();
-        if (v != DisplayView::Normal && v != DisplayView::Motion && v != DisplayView::ReservoirW) ImGui::SameLine();
+        if ((&aov - aov_table().data()) % 3 != 2) ImGui::SameLine();
       }
+      ImGui::NewLine();
       ImGui::SliderFloat("exposure", &state.exposure, 0.01f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
       ImGui::Text("camera (%.1f, %.1f, %.1f) -> (%.1f, %.1f, %.1f)", camera.position.x, camera.position.y,
                   camera.position.z, camera.target.x, camera.target.y, camera.target.z);

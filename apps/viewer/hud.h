@@ -7,7 +7,7 @@
 #include <string>
 
 #include "apps/renderer.h"
-#include "apps/viewer/display_views.h"
+#include "apps/aovs.h"
 
 namespace candela {
 
@@ -34,7 +34,7 @@ struct HudState {
   float scale = 1.0f;          // render resolution / window resolution (with a target FPS: at most)
   float target_fps = 0.0f;     // dynamic resolution's target (0: off)
   float dynamic_scale = 1.0f;  // shown: dynamic resolution's factor on `scale`
-  DisplayView view = DisplayView::Radiance;
+  Aov view = Aov::Radiance;
   float exposure = 1.0f;
   bool pause_time = false;                     // freeze scene time (animated scenes then accumulate too)
   char screenshot_base[256] = "candela_view";  // screenshots go to BASE.png / BASE.exr

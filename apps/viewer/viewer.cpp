@@ -128,8 +128,7 @@ bool Viewer::step() {
     if (reconfigure_ || (resized && settled)) configure_renderer(width, height);
     dynamic_resize_ = false;
     FrameStats stats = renderer_->render_frame(frame_index_, scene_time_, camera_.desc());
-    display_->upload(to_display_pixels(display_view_image(*renderer_, hud_.view), display_view_tonemapped(hud_.view),
-                                       hud_.exposure));
+    display_->upload(aov_display_pixels(*renderer_, hud_.view, hud_.exposure));
     display_->draw(in.framebuffer_width, in.framebuffer_height);
     if (frames_done_ > 1) {  // the first step's time is the setup's
       frame_times_.push_back(frame_ms);
@@ -154,12 +153,12 @@ bool Viewer::step() {
   return options_.frames == 0 || frames_done_ < options_.frames;
 }
 
-// HUD buttons: the displayed view (radiance: linear in EXR, tonemapped in PNG) via write_image; the
-// outcome goes to the HUD's status line.
+// HUD buttons: the displayed AOV (write_aov: its values in EXR, as displayed in PNG); the outcome goes to
+// the HUD's status line.
 void Viewer::save_view(const std::string& extension) {
   std::string path = std::string(hud_.screenshot_base) + extension;
   try {
-    write_image(path, display_view_image(*renderer_, hud_.view), hud_.exposure);
+    write_aov(path, *renderer_, hud_.view, hud_.exposure);
     hud_.status = "wrote " + path;
   } catch (const InputError& e) {
     hud_.status = e.what();

@@ -26,9 +26,9 @@ struct ViewerOptions {
   float orbit_degrees_per_frame = 0.0f;  // the camera orbits its target on its own by this much per frame
   float fps = 30.0f;                     // scene time advances 1/fps seconds per frame
   float exposure = 1.0f;
-  DisplayView view = DisplayView::Radiance;  // what is shown first
-  int test_minimise_frame = -1;              // test hook: minimise the window for 3 frames starting at this frame
-  bool hud = true;                           // draw the HUD over the frame (false: --no-hud, the frame alone)
+  Aov view = Aov::Radiance;      // what is shown first
+  int test_minimise_frame = -1;  // test hook: minimise the window for 3 frames starting at this frame
+  bool hud = true;               // draw the HUD over the frame (false: --no-hud, the frame alone)
   bool quiet = false;
 };
 
