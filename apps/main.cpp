@@ -251,9 +251,11 @@ int main(int argc, char** argv) {
   view->add_flag(
       "--no-hud", [&viewer](int64_t) { viewer.hud = false; },
       "Show the frame alone, without the HUD (screenshots then equal `render` over the whole frame)");
+  // Hidden from --help: a test hook (cli.view_window_minimised), documented in docs/viewer.md.
   view->add_option("--test-minimise", viewer.test_minimise_frame,
                    "Test hook: minimise the window for 3 frames from this frame on")
-      ->check(CLI::Range(0, 1 << 24));
+      ->check(CLI::Range(0, 1 << 24))
+      ->group("");
 
   std::string compare_image, compare_reference;
   CLI::App* compare = app.add_subcommand("compare", "Error of an image against a reference (EXR): MSE and relMSE");

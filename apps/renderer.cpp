@@ -23,7 +23,7 @@ static RestirSettings restir_settings(const RenderSettings& s) {
   r.gi_reuse = s.gi_reuse;
   r.gi.max_depth = s.max_depth;
   r.with_gi = s.method == Method::Restir;
-  r.gi_only = s.gi_only;
+  r.gi_only = s.test.gi_only;
   r.seed = s.seed;
   return r;
 }
@@ -164,7 +164,7 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int done,
 }
 
 RestirFrame Renderer::restir_frame() const {
-  const bool moved = lights_moved_ && !settings_.stale_light_history;
+  const bool moved = lights_moved_ && !settings_.test.stale_light_history;
   return {lights_, moved ? prev_lights_ : lights_, camera_.position(), prev_camera_.position()};
 }
 

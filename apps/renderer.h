@@ -43,6 +43,16 @@ inline DiReuseParams default_gi_reuse() {
   return p;
 }
 
+// Switches for the tests alone, not settings (no option, script key or widget sets them; docs/testing.md):
+// they isolate a stage for comparison with a reference, or break one on purpose so that a test can show
+// the harness notices.
+struct RenderTestSwitches {
+  bool gi_only = false;              // restir: shade the indirect light alone (Unbiased.RestirGi*)
+  bool stale_light_history = false;  // temporal reuse judges last frame's samples with this frame's light
+                                     // placement instead of last frame's (biased where lights move;
+                                     // Unbiased.MovingLights must reject it)
+};
+
 struct RenderSettings {
   int width = 640, height = 360;
   int spp = 1;        // samples per pixel per frame
@@ -57,11 +67,8 @@ struct RenderSettings {
   DiParams di;                  // restir-di: initial candidates
   DiReuseParams di_reuse;       // restir-di: temporal and spatial reuse
   DiReuseParams gi_reuse = default_gi_reuse();  // restir: reuse of the GI samples
-  bool gi_only = false;              // restir: shade the indirect light alone (tests compare it with a reference)
-  bool stale_light_history = false;  // ablation for the tests: temporal reuse judges last frame's samples with
-                                     // this frame's light placement instead of last frame's (biased where
-                                     // lights move; Unbiased.MovingLights must reject it)
-  DenoiserParams denoise;            // the denoiser that finishes each frame (none by default)
+  DenoiserParams denoise;                       // the denoiser that finishes each frame (none by default)
+  RenderTestSwitches test;
 };
 
 using AnyLightSampler = std::variant<UniformLightSampler, PowerLightSampler, LightTreeSampler, ExhaustiveLightSampler>;

@@ -69,7 +69,7 @@ struct DiReuseInput {
 // The resampling MIS weights m_z(y), z = 0..count-1, that params.bias gives every input of a combination
 // for the sample y of input `source` (input 0: the pixel that combines, whose frame y is placed in), into
 // `weights`. The reuse stages compute the same function for z = source only; tests call this to check
-// that the weights of one sample sum to one over the inputs (tests/test_mis_weights.cpp).
+// that the weights of one sample sum to one over the inputs (tests/test_di_reuse.cpp, MisWeights).
 void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source,
                     const DiReuseParams& params, float* weights);
 

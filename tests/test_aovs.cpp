@@ -7,17 +7,15 @@
 
 #include "apps/aovs.h"
 #include "engine/builtin_scenes.h"
+#include "tests/settings_builder.h"
 
 namespace candela {
 namespace {
 
 // One restir-di frame of cornell at 32x24 (every AOV available).
 Renderer rendered(Method method) {
-  RenderSettings s;
-  s.width = 32;
-  s.height = 24;
-  s.method = method;
-  Renderer renderer(make_builtin_scene("cornell"), s);
+  Renderer renderer(make_builtin_scene("cornell"),
+                    testing::settings({{"width", 32}, {"height", 24}, {"method", name_of(method_names(), method)}}));
   renderer.render_frame(0, 0.0f, renderer.scene().default_camera());
   renderer.render_frame(1, 0.0f, renderer.scene().default_camera());  // motion and temporal reuse have a frame before
   return renderer;

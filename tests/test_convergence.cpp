@@ -17,6 +17,7 @@
 #include "engine/builtin_scenes.h"
 #include "engine/check.h"
 #include "tests/test_util.h"
+#include "tests/settings_builder.h"
 
 namespace candela {
 namespace {
@@ -50,16 +51,15 @@ class Convergence : public ::testing::Test {
     return it->second;
   }
   static RenderSettings base() {
-    RenderSettings s;
-    s.width = 48;
-    s.height = 27;
-    s.jitter = false;
-    s.max_depth = 4;
-    s.light_sampler = LightSamplerKind::Tree;
-    s.seed = 3;
-    s.di_reuse.drop_occluded = false;  // ReSTIR DI's unbiased configuration: these tests judge convergence to
-                                       // the reference (the default's bias: Unbiased.RestirDi)
-    return s;
+    // di_drop_occluded false: ReSTIR DI's unbiased configuration; these tests judge convergence to the
+    // reference (the default's bias: Unbiased.RestirDi).
+    return testing::settings({{"width", 48},
+                              {"height", 27},
+                              {"jitter", false},
+                              {"max_depth", 4},
+                              {"light_sampler", "tree"},
+                              {"seed", 3},
+                              {"di_drop_occluded", false}});
   }
   // Method `name` at N = 1, 2, 4, ..., max_samples; `run` picks the seed; `last_image` receives the image
   // at N = max_samples.
@@ -211,11 +211,8 @@ TEST_F(Convergence, SobolBeatsIndependentAt16Samples) { expect_sobol_beats_indep
 TEST(ConvergenceShared, SobolBeatsIndependentAt16Samples) {
   const std::string path = testing::shared_scene_file("occluded_room/occluded_room.gltf");
   if (path.empty()) GTEST_SKIP() << testing::shared_scenes_skip_reason();
-  RenderSettings base;
-  base.width = 64;
-  base.height = 36;
-  base.light_sampler = LightSamplerKind::Tree;
-  base.seed = 3;
+  const RenderSettings base =
+      testing::settings({{"width", 64}, {"height", 36}, {"light_sampler", "tree"}, {"seed", 3}});
   expect_sobol_beats_independent(load_scene(path), base, "occluded_room");
 }
 

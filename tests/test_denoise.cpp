@@ -14,6 +14,7 @@
 #include "engine/image_metrics.h"
 #include "tests/render_helpers.h"
 #include "engine/rng.h"
+#include "tests/settings_builder.h"
 
 namespace candela {
 namespace {
@@ -23,15 +24,14 @@ namespace {
 constexpr int kW = 128, kH = 72;
 
 RenderSettings noisy_settings(uint64_t seed) {
-  RenderSettings s;
-  s.width = kW;
-  s.height = kH;
-  s.method = Method::Direct;
-  s.spp = 1;
-  s.seed = seed;
-  s.jitter = false;      // G-buffer rays through pixel centres, as for the reference
-  s.accumulate = false;  // every frame is an independent 1-spp estimate
-  return s;
+  // Pixel centres, as for the reference; every frame an independent 1-spp estimate.
+  return testing::settings({{"width", kW},
+                            {"height", kH},
+                            {"method", "direct"},
+                            {"spp", 1},
+                            {"seed", seed},
+                            {"jitter", false},
+                            {"accumulate", false}});
 }
 
 // `frames` noisy frames of a still camera with their G-buffers.
@@ -135,18 +135,11 @@ TEST(DenoiseRendered, ManylightsErrorFiveTimesLower) {
 // noisy image stays available.
 TEST(DenoiseRendered, RendererDenoisesRestirFrames) {
   Scene scene = make_manylights_scene(1024, 7);
-  RenderSettings settings;
-  settings.width = 96;
-  settings.height = 54;
-  settings.method = Method::RestirDi;
-  settings.jitter = false;
-  RenderSettings reference_settings = settings;
-  reference_settings.di_reuse.temporal = reference_settings.di_reuse.spatial = false;
-  Renderer reference(scene, reference_settings);
+  const RenderSettings settings =
+      testing::settings({{"width", 96}, {"height", 54}, {"method", "restir-di"}, {"jitter", false}});
+  Renderer reference(scene, testing::settings({{"di_reuse", "none"}}, settings));
   for (int frame = 0; frame < 512; ++frame) testing::render_checked(reference, frame, 0.0f, scene.default_camera());
-  settings.accumulate = false;
-  settings.denoise.kind = DenoiserKind::Svgf;
-  Renderer renderer(scene, settings);
+  Renderer renderer(scene, testing::settings({{"accumulate", false}, {"denoise", "svgf"}}, settings));
   FrameStats stats;
   for (int frame = 0; frame < 12; ++frame)
     stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());

@@ -11,6 +11,7 @@
 #include "tests/light_reach.h"
 #include "tests/render_helpers.h"
 #include "tests/unbiasedness.h"
+#include "tests/settings_builder.h"
 
 namespace candela {
 namespace {
@@ -106,27 +107,22 @@ TEST(Unbiased, LightSamplersAndRestirDiCandidates) {
   auto runs_of = [&](const RenderSettings& base, int runs, int frames, uint64_t seed) {
     return testing::renderer_runs(scene, base, runs, frames, seed);
   };
-  auto direct = [&](LightSamplerKind kind, int spp) {
-    RenderSettings s;
-    s.width = kW;
-    s.height = kH;
-    s.jitter = false;
-    s.max_depth = 1;
-    s.spp = spp;
-    s.light_sampler = kind;
-    return s;
+  auto direct = [&](const char* light_sampler, int spp) {
+    return testing::settings({{"width", kW},
+                              {"height", kH},
+                              {"jitter", false},
+                              {"max_depth", 1},
+                              {"spp", spp},
+                              {"light_sampler", light_sampler}});
   };
-  const testing::Runs power = runs_of(direct(LightSamplerKind::Power, 128), 64, 1, 7000);
-  const testing::Runs tree = runs_of(direct(LightSamplerKind::Tree, 128), 64, 1, 8000);
-  testing::expect_unbiased(
-      "direct, uniform", testing::compare_runs(runs_of(direct(LightSamplerKind::Uniform, 256), 64, 1, 1), power), 0.01);
-  testing::expect_unbiased("direct, power",
-                           testing::compare_runs(runs_of(direct(LightSamplerKind::Power, 64), 64, 1, 2), tree), 0.01);
-  testing::expect_unbiased("direct, tree",
-                           testing::compare_runs(runs_of(direct(LightSamplerKind::Tree, 64), 64, 1, 3), power), 0.01);
+  const testing::Runs power = runs_of(direct("power", 128), 64, 1, 7000);
+  const testing::Runs tree = runs_of(direct("tree", 128), 64, 1, 8000);
+  testing::expect_unbiased("direct, uniform", testing::compare_runs(runs_of(direct("uniform", 256), 64, 1, 1), power),
+                           0.01);
+  testing::expect_unbiased("direct, power", testing::compare_runs(runs_of(direct("power", 64), 64, 1, 2), tree), 0.01);
+  testing::expect_unbiased("direct, tree", testing::compare_runs(runs_of(direct("tree", 64), 64, 1, 3), power), 0.01);
   testing::expect_unbiased("direct, exhaustive",
-                           testing::compare_runs(runs_of(direct(LightSamplerKind::Exhaustive, 4), 64, 1, 4), power),
-                           0.015);
+                           testing::compare_runs(runs_of(direct("exhaustive", 4), 64, 1, 4), power), 0.015);
   // The candidate stage alone (no reuse), accumulated over 24 frames per run: power and tree candidates,
   // with and without the visibility test, light and BSDF candidates mixed, and power candidates read from
   // presampled light tiles (8 tiles of 256 entries: a 16x16 block's 2,048 candidates share one, so they
@@ -134,25 +130,24 @@ TEST(Unbiased, LightSamplersAndRestirDiCandidates) {
   // in the tiles too), and tree candidates read from region tiles (each block's own 256 entries, drawn for
   // the sphere around its points; the BSDF candidate's MIS weight uses the same region density).
   struct Case {
-    LightSamplerKind kind;
+    const char* light_sampler;
     bool visibility;
     int light_candidates, bsdf_candidates, light_tiles;
   };
-  for (Case c : {Case{LightSamplerKind::Power, false, 8, 1, 0}, Case{LightSamplerKind::Tree, true, 8, 1, 0},
-                 Case{LightSamplerKind::Power, false, 2, 4, 0}, Case{LightSamplerKind::Power, false, 8, 1, 8},
-                 Case{LightSamplerKind::Tree, false, 8, 1, 1}}) {
-    RenderSettings s = direct(c.kind, 1);
-    s.method = Method::RestirDi;
-    s.di.candidate_visibility = c.visibility;
-    s.di.light_candidates = c.light_candidates;
-    s.di.bsdf_candidates = c.bsdf_candidates;
-    s.di.light_tiles = c.light_tiles;
-    s.di.light_tile_size = 256;
-    s.di_reuse.temporal = s.di_reuse.spatial = false;
-    const std::string name =
-        std::string("restir-di candidates, ") + (c.kind == LightSamplerKind::Tree ? "tree" : "power") +
-        (c.visibility ? ", visibility, " : ", ") + std::to_string(c.light_candidates) + " light + " +
-        std::to_string(c.bsdf_candidates) + " BSDF" + (c.light_tiles ? ", light tiles" : "");
+  for (Case c : {Case{"power", false, 8, 1, 0}, Case{"tree", true, 8, 1, 0}, Case{"power", false, 2, 4, 0},
+                 Case{"power", false, 8, 1, 8}, Case{"tree", false, 8, 1, 1}}) {
+    const RenderSettings s = testing::settings({{"method", "restir-di"},
+                                                {"di_visibility", c.visibility},
+                                                {"di_candidates", c.light_candidates},
+                                                {"di_bsdf_candidates", c.bsdf_candidates},
+                                                {"di_light_tiles", c.light_tiles},
+                                                {"di_light_tile_size", 256},
+                                                {"di_reuse", "none"}},
+                                               direct(c.light_sampler, 1));
+    const std::string name = std::string("restir-di candidates, ") + c.light_sampler +
+                             (c.visibility ? ", visibility, " : ", ") + std::to_string(c.light_candidates) +
+                             " light + " + std::to_string(c.bsdf_candidates) + " BSDF" +
+                             (c.light_tiles ? ", light tiles" : "");
     testing::expect_unbiased(name, testing::compare_runs(runs_of(s, c.light_tiles ? 128 : 64, 24, 11), power), 0.01);
   }
 }
@@ -176,38 +171,32 @@ TEST_F(DirectLightScene, VarianceOrderingTreePowerUniform) {
 // reuse: Unbiased.RestirDi.
 TEST_F(DirectLightScene, RestirDiReuseHelps) {
   // The reference at pixel centres too (path tracer, direct light, 2048 samples per pixel).
-  RenderSettings centres;
-  centres.width = kW;
-  centres.height = kH;
-  centres.jitter = false;
-  centres.max_depth = 1;
-  centres.spp = 2048;
-  Renderer reference_renderer(*scene_, centres);
+  Renderer reference_renderer(
+      *scene_, testing::settings({{"width", kW}, {"height", kH}, {"jitter", false}, {"max_depth", 1}, {"spp", 2048}}));
   testing::render_checked(reference_renderer, 0, 0.0f, scene_->default_camera());
   const Image reference = reference_renderer.image();
   struct Mode {
     const char* name;
-    bool reuse;
-    DiBiasCorrection bias;
+    const char* reuse;
+    const char* bias;
   };
   double rel_mse_of[3];
   int k = 0;
-  for (Mode mode : {Mode{"no reuse", false, DiBiasCorrection::Basic}, Mode{"basic", true, DiBiasCorrection::Basic},
-                    Mode{"pairwise", true, DiBiasCorrection::Pairwise}}) {
+  for (Mode mode :
+       {Mode{"no reuse", "none", "basic"}, Mode{"basic", "both", "basic"}, Mode{"pairwise", "both", "pairwise"}}) {
     const int runs = 16, frames = 6;
     double rel_mse = 0.0;
     for (int run = 0; run < runs; ++run) {
-      RenderSettings settings;
-      settings.width = kW;
-      settings.height = kH;
-      settings.method = Method::RestirDi;
-      settings.jitter = false;
-      settings.accumulate = false;
-      settings.seed = 1000 + uint64_t(run);
-      settings.di_reuse.spatial_radius = 4.0f;  // the image is 32 x 18: keep neighbours inside it
-      settings.di_reuse.temporal = settings.di_reuse.spatial = mode.reuse;
-      settings.di_reuse.bias = mode.bias;
-      Renderer renderer(*scene_, settings);
+      // di_radius 4: the image is 32 x 18, keep neighbours inside it.
+      Renderer renderer(*scene_, testing::settings({{"width", kW},
+                                                    {"height", kH},
+                                                    {"method", "restir-di"},
+                                                    {"jitter", false},
+                                                    {"accumulate", false},
+                                                    {"seed", 1000 + run},
+                                                    {"di_radius", 4},
+                                                    {"di_reuse", mode.reuse},
+                                                    {"di_bias", mode.bias}}));
       for (int frame = 0; frame < frames; ++frame)
         testing::render_checked(renderer, frame, 0.0f, scene_->default_camera());
       rel_mse += compare_images(renderer.image(), reference).rel_mse / runs;
@@ -227,12 +216,8 @@ TEST(RestirDi, EnvironmentReachesThroughBsdfCandidates) {
   scene.environment = vec3(1.0f);
   const int w = 32, h = 24;
   Image reference = testing::render_paths<PowerLightSampler>(scene, LightList(scene), w, h, 1024, 1, 9);
-  RenderSettings settings;
-  settings.width = w;
-  settings.height = h;
-  settings.method = Method::RestirDi;
-  settings.di_reuse.temporal = settings.di_reuse.spatial = false;
-  Renderer renderer(scene, settings);
+  Renderer renderer(scene,
+                    testing::settings({{"width", w}, {"height", h}, {"method", "restir-di"}, {"di_reuse", "none"}}));
   for (int frame = 0; frame < 128; ++frame) testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
   ImageError e = compare_images(renderer.image(), reference);
   std::printf("cornell with environment: mean difference %+.5f (standard error %.5f)\n", e.mean_difference,

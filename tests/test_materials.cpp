@@ -16,6 +16,7 @@
 #include "engine/surface.h"
 #include "tests/render_helpers.h"
 #include "tests/test_util.h"
+#include "tests/settings_builder.h"
 
 namespace candela {
 namespace {
@@ -105,15 +106,12 @@ TEST(MaterialClosedForm, LambertPlaneUnderPointLight) {
   const vec3 intensity(3.0f, 2.0f, 1.0f), albedo(0.5f, 0.6f, 0.7f);
   Scene scene = point_lit_floor(h, intensity, albedo);
   const vec3 expected = albedo * intensity * (kInvPi / (h * h));
-  for (Method method : {Method::PathTrace, Method::Direct, Method::RestirDi}) {
-    RenderSettings s;
-    s.width = s.height = 3;
-    s.jitter = false;
-    s.max_depth = 1;
-    s.method = method;
+  for (const char* method : {"pt", "direct", "restir-di"}) {
+    const RenderSettings s =
+        testing::settings({{"width", 3}, {"height", 3}, {"jitter", false}, {"max_depth", 1}, {"method", method}});
     vec3 L = render_image(scene, s).at(1, 1);
     for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(L[c], expected[c], 1e-3f * expected[c]) << "method " << int(method) << " channel " << c;
+      EXPECT_NEAR(L[c], expected[c], 1e-3f * expected[c]) << "method " << method << " channel " << c;
   }
 }
 
@@ -159,10 +157,7 @@ TEST(AlphaBlend, HalfTransparentSquareStopsHalfTheRays) {
 // The same through a render: the floor's radiance with the square over it is half its radiance without,
 // pixel by pixel on average (each pixel's one shadow ray is an independent coin), within 4 standard errors.
 TEST(AlphaBlend, HalfTransparentSquareCastsHalfAShadow) {
-  RenderSettings s;
-  s.width = s.height = 64;
-  s.jitter = false;
-  s.method = Method::Direct;
+  const RenderSettings s = testing::settings({{"width", 64}, {"height", 64}, {"jitter", false}, {"method", "direct"}});
   Image with = render_image(half_covered_floor(true), s), without = render_image(half_covered_floor(false), s);
   double sum = 0.0, sum2 = 0.0;
   int n = 0;
@@ -204,10 +199,7 @@ TEST(DefaultEnvironment, EmitterLitFileGetsNoOutsideLight) {
   Scene scene = load_scene(material_file("emissive_ceiling.gltf"));
   for (Material& m : scene.materials) m.emission = vec3(0.0f);
   scene.camera = CameraDesc{vec3(0.0f, 1.0f, 3.0f), vec3(0.0f, 1.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), 60.0f};
-  RenderSettings s;
-  s.width = s.height = 16;
-  s.max_depth = 3;
-  EXPECT_EQ(image_mean(render_image(scene, s)), 0.0);
+  EXPECT_EQ(image_mean(render_image(scene, testing::settings({{"width", 16}, {"height", 16}, {"max_depth", 3}}))), 0.0);
 }
 
 // Box filter of a reference down to width x height (each output pixel the mean of a k x k block).
@@ -242,12 +234,9 @@ TEST_P(PbrtReference, OccludedRoomLambertMatches) {
   Scene scene = load_scene(scene_file);
   ASSERT_TRUE(scene.camera.has_value());
   Image reference = read_image(reference_file);
-  RenderSettings s;
-  s.width = s.height = c.size;
-  s.spp = c.spp;
-  s.max_depth = c.max_depth;
-  s.seed = 3;
-  Image image = render_image(scene, s);
+  Image image = render_image(
+      scene, testing::settings(
+                 {{"width", c.size}, {"height", c.size}, {"spp", c.spp}, {"max_depth", c.max_depth}, {"seed", 3}}));
   Image ref = downsample(reference, c.size, c.size);
   ImageError e = compare_images(image, ref);
   double ratio = image_mean(image) / image_mean(ref);

@@ -8,6 +8,7 @@
 #include "engine/path_tracer.h"
 #include "samplers/simple_samplers.h"
 #include "tests/render_helpers.h"
+#include "tests/settings_builder.h"
 
 namespace candela {
 namespace {
@@ -68,12 +69,9 @@ TEST(PathTracer, RestirFurnaceMatchesClosedForm) {
   const int runs = 16, frames = 32;
   double sum = 0.0, sum2 = 0.0;
   for (int run = 0; run < runs; ++run) {
-    RenderSettings s;
-    s.width = s.height = 32;
-    s.method = Method::Restir;
-    s.max_depth = 100;
-    s.seed = 40 + uint64_t(run);
-    Renderer renderer(scene, s);
+    Renderer renderer(
+        scene, testing::settings(
+                   {{"width", 32}, {"height", 32}, {"method", "restir"}, {"max_depth", 100}, {"seed", 40 + run}}));
     for (int frame = 0; frame < frames; ++frame) testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
     const double m = mean_and_error(renderer.image()).first;
     sum += m;

@@ -7,6 +7,7 @@
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
 #include "tests/render_helpers.h"
+#include "tests/settings_builder.h"
 
 namespace candela {
 namespace {
@@ -16,26 +17,13 @@ namespace {
 // B does; for several pairs (A, B), including a change of size alone and a change back.
 TEST(Renderer, AppliedSettingsEqualANewRenderer) {
   const Scene scene = make_manylights_scene(64, 7);
-  RenderSettings direct;
-  direct.width = 64;
-  direct.height = 36;
-  direct.method = Method::Direct;
-  direct.light_sampler = LightSamplerKind::Power;
-  RenderSettings restir = direct;
-  restir.width = 48;
-  restir.height = 27;
-  restir.method = Method::RestirDi;
-  restir.light_sampler = LightSamplerKind::Tree;
-  restir.denoise.kind = DenoiserKind::Svgf;
-  RenderSettings small = direct;
-  small.width = 32;
-  small.height = 18;
-  small.sampler = SampleSequence::ZSobol;
-  small.denoise.kind = DenoiserKind::Bilateral;
-  RenderSettings pt = restir;
-  pt.method = Method::PathTrace;
-  pt.max_depth = 3;
-  pt.denoise.kind = DenoiserKind::None;
+  const RenderSettings direct =
+      testing::settings({{"width", 64}, {"height", 36}, {"method", "direct"}, {"light_sampler", "power"}});
+  const RenderSettings restir = testing::settings(
+      {{"width", 48}, {"height", 27}, {"method", "restir-di"}, {"light_sampler", "tree"}, {"denoise", "svgf"}}, direct);
+  const RenderSettings small =
+      testing::settings({{"width", 32}, {"height", 18}, {"sampler", "zsobol"}, {"denoise", "bilateral"}}, direct);
+  const RenderSettings pt = testing::settings({{"method", "pt"}, {"max_depth", 3}, {"denoise", "none"}}, restir);
   struct Change {
     const RenderSettings *from, *to;
   };

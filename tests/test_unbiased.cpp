@@ -10,6 +10,7 @@
 #include "tests/flythrough.h"
 #include "tests/render_helpers.h"
 #include "tests/unbiasedness.h"
+#include "tests/settings_builder.h"
 
 namespace candela {
 namespace {
@@ -20,15 +21,13 @@ using testing::kTilesY;
 // Settings of every run: pixel centres (only the estimator is random), no accumulation, and ReSTIR DI's
 // unbiased configuration (the default drops occluded samples from the history: biased, see RestirDi).
 RenderSettings run_settings(int w, int h, Method method, uint64_t seed) {
-  RenderSettings s;
-  s.width = w;
-  s.height = h;
-  s.method = method;
-  s.jitter = false;
-  s.accumulate = false;
-  s.seed = seed;
-  s.di_reuse.drop_occluded = false;
-  return s;
+  return testing::settings({{"width", w},
+                            {"height", h},
+                            {"method", name_of(method_names(), method)},
+                            {"jitter", false},
+                            {"accumulate", false},
+                            {"seed", seed},
+                            {"di_drop_occluded", false}});
 }
 
 // `runs` runs of `frames` still frames each; the last frame's image.
@@ -38,10 +37,9 @@ testing::Runs restir_runs(const Scene& scene, const RenderSettings& base, int ru
 
 // `runs` path-traced images of `spp` samples of at most `depth` bounces.
 testing::Runs path_traced_runs(const Scene& scene, int w, int h, int depth, int spp, int runs, uint64_t seed) {
-  RenderSettings s = run_settings(w, h, Method::PathTrace, 0);
-  s.max_depth = depth;
-  s.spp = spp;
-  s.sampler = SampleSequence::Independent;  // the plainest estimator, whatever the default
+  // Independent numbers: the plainest estimator, whatever the default.
+  const RenderSettings s = testing::settings({{"max_depth", depth}, {"spp", spp}, {"sampler", "independent"}},
+                                             run_settings(w, h, Method::PathTrace, 0));
   return testing::renderer_runs(scene, s, runs, 1, seed);
 }
 
@@ -63,25 +61,25 @@ TEST(Unbiased, RestirDi) {
   enum class Expect { Unbiased, Biased, Printed };
   struct Mode {
     const char* name;
-    DiBiasCorrection bias;
+    const char* bias;
     bool visibility, candidate_visibility, drop_occluded;
     Expect expect;
   };
-  for (Mode mode :
-       {Mode{"basic", DiBiasCorrection::Basic, false, false, false, Expect::Unbiased},
-        Mode{"pairwise", DiBiasCorrection::Pairwise, false, false, false, Expect::Unbiased},
-        Mode{"basic+visibility", DiBiasCorrection::Basic, true, true, false, Expect::Unbiased},
-        Mode{"pairwise+visibility", DiBiasCorrection::Pairwise, true, true, false, Expect::Unbiased},
-        Mode{"basic, visible candidates", DiBiasCorrection::Basic, false, true, false, Expect::Biased},
-        Mode{"none, visible candidates", DiBiasCorrection::None, false, true, false, Expect::Biased},
-        Mode{"pairwise, drop occluded (the default)", DiBiasCorrection::Pairwise, false, false, true, Expect::Biased},
-        Mode{"none", DiBiasCorrection::None, false, false, false, Expect::Printed}}) {
-    RenderSettings s = run_settings(w, h, Method::RestirDi, 0);
-    s.di_reuse.bias = mode.bias;
-    s.di_reuse.mis_visibility = mode.visibility;
-    s.di.candidate_visibility = mode.candidate_visibility;
-    s.di_reuse.drop_occluded = mode.drop_occluded;
-    s.di_reuse.spatial_radius = 6.0f;  // neighbours mostly inside the small image
+  for (Mode mode : {Mode{"basic", "basic", false, false, false, Expect::Unbiased},
+                    Mode{"pairwise", "pairwise", false, false, false, Expect::Unbiased},
+                    Mode{"basic+visibility", "basic", true, true, false, Expect::Unbiased},
+                    Mode{"pairwise+visibility", "pairwise", true, true, false, Expect::Unbiased},
+                    Mode{"basic, visible candidates", "basic", false, true, false, Expect::Biased},
+                    Mode{"none, visible candidates", "none", false, true, false, Expect::Biased},
+                    Mode{"pairwise, drop occluded (the default)", "pairwise", false, false, true, Expect::Biased},
+                    Mode{"none", "none", false, false, false, Expect::Printed}}) {
+    // di_radius 6: neighbours mostly inside the small image.
+    const RenderSettings s = testing::settings({{"di_bias", mode.bias},
+                                                {"di_mis_visibility", mode.visibility},
+                                                {"di_visibility", mode.candidate_visibility},
+                                                {"di_drop_occluded", mode.drop_occluded},
+                                                {"di_radius", 6}},
+                                               run_settings(w, h, Method::RestirDi, 0));
     const testing::Verdict v = testing::compare_runs(restir_runs(scene, s, runs, frames, 1000), reference);
     const std::string name = std::string("restir-di ") + mode.name;
     if (mode.expect == Expect::Unbiased) testing::expect_unbiased(name, v, 0.01);
@@ -102,11 +100,9 @@ Scene lambertian(Scene scene) {
 testing::Runs indirect_runs(const Scene& scene, int w, int h, int depth, int spp, int runs, uint64_t seed) {
   return testing::collect_runs(runs, kTilesX, kTilesY, [&](int run) {
     auto render = [&](int max_depth) {
-      RenderSettings s = run_settings(w, h, Method::PathTrace, seed + uint64_t(run));
-      s.jitter = true;  // as the GI runs (see RestirGi)
-      s.max_depth = max_depth;
-      s.spp = spp;
-      Renderer renderer(scene, s);
+      // Jittered as the GI runs (see RestirGi).
+      Renderer renderer(scene, testing::settings({{"jitter", true}, {"max_depth", max_depth}, {"spp", spp}},
+                                                 run_settings(w, h, Method::PathTrace, seed + uint64_t(run))));
       testing::render_checked(renderer, 0, 0.0f, scene.default_camera());
       return renderer.image();
     };
@@ -130,22 +126,18 @@ TEST(Unbiased, RestirGi) {
   const testing::Runs reference = indirect_runs(scene, w, h, depth, 64, 64, 7000);
   struct Mode {
     const char* name;
-    bool reuse;
-    DiBiasCorrection bias;
+    const char* reuse;
+    const char* bias;
     int runs, frames;
     bool biased;
   };
-  for (Mode mode : {Mode{"no reuse", false, DiBiasCorrection::Pairwise, 1024, 1, false},
-                    Mode{"pairwise", true, DiBiasCorrection::Pairwise, 512, 4, false},
-                    Mode{"basic", true, DiBiasCorrection::Basic, 512, 4, false},
-                    Mode{"none", true, DiBiasCorrection::None, 256, 4, true}}) {
-    RenderSettings s = run_settings(w, h, Method::Restir, 0);
-    s.jitter = true;
-    s.gi_only = true;
-    s.max_depth = depth;
-    s.gi_reuse.temporal = s.gi_reuse.spatial = mode.reuse;
-    s.gi_reuse.bias = mode.bias;
-    s.gi_reuse.spatial_radius = 8.0f;
+  for (Mode mode :
+       {Mode{"no reuse", "none", "pairwise", 1024, 1, false}, Mode{"pairwise", "both", "pairwise", 512, 4, false},
+        Mode{"basic", "both", "basic", 512, 4, false}, Mode{"none", "both", "none", 256, 4, true}}) {
+    RenderSettings s = testing::settings(
+        {{"jitter", true}, {"max_depth", depth}, {"gi_reuse", mode.reuse}, {"gi_bias", mode.bias}, {"gi_radius", 8}},
+        run_settings(w, h, Method::Restir, 0));
+    s.test.gi_only = true;
     const testing::Verdict v = testing::compare_runs(restir_runs(scene, s, mode.runs, mode.frames, 500), reference);
     const std::string name = std::string("restir gi ") + mode.name;
     if (mode.biased)
@@ -178,12 +170,10 @@ TEST(Unbiased, RestirGiAcrossOccluders) {
   const int w = 64, h = 36, depth = 3, runs = 256, frames = 6;
   const testing::Runs reference = indirect_runs(scene, w, h, depth, 64, 64, 7000);
   for (bool visibility : {true, false}) {
-    RenderSettings s = run_settings(w, h, Method::Restir, 0);
-    s.jitter = true;
-    s.gi_only = true;
-    s.max_depth = depth;
-    s.gi_reuse.mis_visibility = visibility;
-    s.gi_reuse.spatial_radius = 8.0f;
+    RenderSettings s = testing::settings({{"jitter", true}, {"max_depth", depth}, {"gi_radius", 8}},
+                                         run_settings(w, h, Method::Restir, 0));
+    s.test.gi_only = true;
+    s.gi_reuse.mis_visibility = visibility;  // not a setting (GI always weighs visibility): the ablation
     const testing::Verdict v = testing::compare_runs(restir_runs(scene, s, runs, frames, 900), reference);
     if (visibility)
       testing::expect_unbiased("restir gi across occluders", v, 0.02);
@@ -202,16 +192,11 @@ TEST(Unbiased, FlythroughCity) {
   const Scene scene = make_city_scene(7);
   const Scene at_last = testing::flythrough_scene_at(scene.default_camera(), frames - 1);
   for (Method method : {Method::RestirDi, Method::Restir}) {
-    RenderSettings s = run_settings(w, h, method, 0);
-    s.jitter = true;
-    s.max_depth = depth;
+    const RenderSettings s = testing::settings({{"jitter", true}, {"max_depth", depth}}, run_settings(w, h, method, 0));
     const int reference_depth = method == Method::RestirDi ? 1 : depth;
     const testing::Runs reference = testing::collect_runs(runs, kTilesX, kTilesY, [&](int run) {
-      RenderSettings r = run_settings(w, h, Method::PathTrace, 9000 + uint64_t(run));
-      r.jitter = true;
-      r.max_depth = reference_depth;
-      r.spp = 64;
-      Renderer renderer(at_last, r);
+      Renderer renderer(at_last, testing::settings({{"jitter", true}, {"max_depth", reference_depth}, {"spp", 64}},
+                                                   run_settings(w, h, Method::PathTrace, 9000 + uint64_t(run))));
       testing::render_checked(renderer, 0, 0.0f, at_last.default_camera());
       return renderer.image();
     });
@@ -238,9 +223,8 @@ TEST(Unbiased, MovingLights) {
   at_last.set_time(float(frames - 1) / 30.0f);
   const testing::Runs reference = path_traced_runs(at_last, w, h, 1, 64, 64, 7000);
   for (bool stale : {false, true}) {
-    RenderSettings s = run_settings(w, h, Method::RestirDi, 0);
-    s.di_reuse.spatial_radius = 6.0f;
-    s.stale_light_history = stale;
+    RenderSettings s = testing::settings({{"di_radius", 6}}, run_settings(w, h, Method::RestirDi, 0));
+    s.test.stale_light_history = stale;
     const testing::Verdict v =
         testing::compare_runs(testing::renderer_runs(scene, s, runs, frames, 100, 30.0f), reference);
     if (stale)
@@ -260,16 +244,12 @@ TEST(Unbiased, SobolSamples) {
   const int w = 48, h = 27, runs = 64;
   for (int depth : {1, 4}) {
     const testing::Runs reference = path_traced_runs(scene, w, h, depth, 64, 64, 7000);
-    for (SampleSequence sequence : {SampleSequence::Sobol, SampleSequence::ZSobol}) {
-      RenderSettings s = run_settings(w, h, depth == 1 ? Method::Direct : Method::PathTrace, 0);
-      s.max_depth = depth;
-      s.spp = 16;
-      s.light_sampler = LightSamplerKind::Tree;
-      s.sampler = sequence;
+    for (const char* sequence : {"sobol", "zsobol"}) {
+      const RenderSettings s =
+          testing::settings({{"max_depth", depth}, {"spp", 16}, {"light_sampler", "tree"}, {"sampler", sequence}},
+                            run_settings(w, h, depth == 1 ? Method::Direct : Method::PathTrace, 0));
       const testing::Verdict v = testing::compare_runs(testing::renderer_runs(scene, s, runs, 1, 500), reference);
-      testing::expect_unbiased(std::string(depth == 1 ? "direct, " : "path tracer, ") +
-                                   (sequence == SampleSequence::Sobol ? "sobol" : "zsobol"),
-                               v, 0.01);
+      testing::expect_unbiased(std::string(depth == 1 ? "direct, " : "path tracer, ") + sequence, v, 0.01);
     }
   }
 }

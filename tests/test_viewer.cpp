@@ -11,6 +11,7 @@
 #include "apps/viewer/camera_controller.h"
 #include "apps/viewer/viewer.h"
 #include "engine/builtin_scenes.h"
+#include "tests/settings_builder.h"
 
 namespace candela {
 namespace {
@@ -178,8 +179,7 @@ long resident_kb() {
 // resident memory may grow by at most 2 MB between frame 100 and frame 1000, i.e. no per-frame leak
 // above ~2 kB.
 TEST(ViewerHeadless, ResidentMemoryStableOver1000Frames) {
-  RenderSettings settings;
-  settings.method = Method::Direct;
+  const RenderSettings settings = testing::settings({{"method", "direct"}});
   ViewerOptions options;
   options.headless = true;
   options.width = 128;
@@ -203,8 +203,7 @@ TEST(ViewerHeadless, ResidentMemoryStableOver1000Frames) {
 // untouched. Each step reconfigures the same Renderer (no new BVHs), so the run also exercises
 // Renderer::apply_settings at changing sizes.
 TEST(ViewerHeadless, DynamicResolutionFollowsTheTarget) {
-  RenderSettings settings;
-  settings.method = Method::Direct;
+  const RenderSettings settings = testing::settings({{"method", "direct"}});
   for (float target : {10000.0f, 1.0f, 0.0f}) {
     ViewerOptions options;
     options.headless = true;
