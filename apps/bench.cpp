@@ -138,6 +138,24 @@ uint64_t shadow_rays(const BenchScene& s, bool packets) {
   return rays.count.load();
 }
 
+}  // namespace
+
+void register_rays_benchmark(const std::string& name, const BenchOptions& o, std::function<uint64_t()> body) {
+  benchmark::RegisterBenchmark(name.c_str(),
+                               [body](benchmark::State& state) {
+                                 uint64_t rays = 0;
+                                 for (auto _ : state) rays += body();
+                                 state.counters["rays/s"] =
+                                     benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+                               })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->MinTime(o.min_time)
+      ->Repetitions(o.repetitions);
+}
+
+namespace {
+
 // Remembers every repetition so the summary can quote medians and ratios from this one process.
 class CollectingReporter : public benchmark::ConsoleReporter {
  public:
@@ -213,17 +231,7 @@ int run_bench(const BenchOptions& options) {
     std::string name = bench_scene_name(sources[k]);
     names.push_back(name);
     auto add = [&](const std::string& kind, std::function<uint64_t()> body) {
-      benchmark::RegisterBenchmark((kind + "/" + name).c_str(),
-                                   [body](benchmark::State& state) {
-                                     uint64_t rays = 0;
-                                     for (auto _ : state) rays += body();
-                                     state.counters["rays/s"] =
-                                         benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-                                   })
-          ->Unit(benchmark::kMillisecond)
-          ->UseRealTime()
-          ->MinTime(o.min_time)
-          ->Repetitions(o.repetitions);
+      register_rays_benchmark(kind + "/" + name, o, std::move(body));
     };
     add("raw_intersect16", [s] { return raw_primary_packets(*s->tracer, s->camera); });
     add("gbuffer", [s] {

@@ -2,6 +2,8 @@
 // `candela bench`: ray throughput of the G-buffer pass and of shadow rays, next to raw Embree packet
 // throughput on the same scene and rays, measured with Google Benchmark.
 #include <CLI/CLI.hpp>
+#include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -28,6 +30,8 @@ struct BenchResults {
   std::map<std::string, std::vector<double>> rays_per_second, ns_per_iteration;
   static double median(const std::map<std::string, std::vector<double>>& m, const std::string& name);
 };
+// Registers `name`: each iteration runs `body` once, which returns the rays it traced (rays/s counter).
+void register_rays_benchmark(const std::string& name, const BenchOptions& options, std::function<uint64_t()> body);
 // Runs every registered benchmark matching options.filter, printing Google Benchmark's table.
 BenchResults run_registered_benchmarks(const BenchOptions& options);
 // The samplers suite (bench_samplers.cpp).

@@ -85,21 +85,6 @@ std::unique_ptr<RestirBenchScene> warm_scene(const std::string& source, Method m
   return s;
 }
 
-// Registers `name`: each iteration runs `body` once, which returns the rays it traced.
-void register_rays_benchmark(const std::string& name, const BenchOptions& o, std::function<uint64_t()> body) {
-  benchmark::RegisterBenchmark(name.c_str(),
-                               [body](benchmark::State& state) {
-                                 uint64_t rays = 0;
-                                 for (auto _ : state) rays += body();
-                                 state.counters["rays/s"] =
-                                     benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-                               })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->MinTime(o.min_time)
-      ->Repetitions(o.repetitions);
-}
-
 }  // namespace
 
 int run_restir_bench(const BenchOptions& o) {

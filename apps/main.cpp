@@ -143,6 +143,21 @@ int run_view(RenderOptions& o, ViewerOptions& v) {
   return run_viewer(load_frame_scene(o), o.settings, v);
 }
 
+// The options that shape a loaded scene (render, view, converge): the built-in manylights' light count and
+// the environment (apply_default_environment's rule unless given).
+void add_scene_options(CLI::App& cmd, int& lights, float& environment) {
+  cmd.add_option("--lights", lights, "builtin:manylights: number of ceiling lights")
+      ->check(CLI::Range(1, 4000000))
+      ->capture_default_str();
+  char fallback[32];
+  std::snprintf(fallback, sizeof(fallback), "%g", double(kFallbackEnvironment));
+  cmd.add_option("--environment", environment,
+                 std::string("Uniform background radiance (grey); default: a built-in scene's own; for a glTF file "
+                             "none if it has lights, else ") +
+                     fallback + " with a warning")
+      ->check(CLI::Range(0.0f, 1e6f));
+}
+
 // Options `render` and `view` share: the scene, every render setting (apps/settings_schema.h) and the
 // options that shape the scene and its output.
 void add_frame_options(CLI::App* cmd, RenderOptions& r) {
@@ -158,14 +173,7 @@ void add_frame_options(CLI::App* cmd, RenderOptions& r) {
   cmd->add_option("--threads", r.threads, "Worker threads; 0 = all cores")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
-  cmd->add_option("--lights", r.lights, "builtin:manylights: number of ceiling lights")
-      ->check(CLI::Range(1, 4000000))
-      ->capture_default_str();
-  cmd->add_option(
-         "--environment", r.environment,
-         "Uniform background radiance (grey); default: the built-in scene's own; for glTF files none if the file "
-         "has lights, else 0.3 with a warning")
-      ->check(CLI::Range(0.0f, 1e6f));
+  add_scene_options(*cmd, r.lights, r.environment);
   cmd->add_flag("--quiet,-q", r.quiet, "No progress output");
 }
 
@@ -321,14 +329,7 @@ int main(int argc, char** argv) {
                    "Stop a method after the count at which it passed this time (0 = off)")
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
-  converge->add_option("--lights", c.lights, "builtin:manylights: number of ceiling lights")
-      ->check(CLI::Range(1, 4000000))
-      ->capture_default_str();
-  converge
-      ->add_option("--environment", c.environment,
-                   "Uniform background radiance; default: the scene's own (none for a glTF file that has lights, 0.3 "
-                   "for one without)")
-      ->check(CLI::Range(0.0f, 1e6f));
+  add_scene_options(*converge, c.lights, c.environment);
   converge->add_option("--threads", r.threads, "Worker threads; 0 = all cores")->check(CLI::Range(0, 1024));
   add_setting_options(*converge, c.base, kConverge);
   converge->footer(
