@@ -1,5 +1,7 @@
 #include "apps/settings_options.h"
 
+#include <cstdlib>
+
 namespace candela {
 
 void add_setting_options(CLI::App& command, RenderSettings& settings, unsigned scope) {
@@ -23,13 +25,23 @@ void add_setting_options(CLI::App& command, RenderSettings& settings, unsigned s
         command
             .add_option_function<double>(
                 row.option(), [set](const double& v) { set(v); }, doc)
-            ->check(CLI::Range(row.min, row.max))
+            ->check(CLI::Validator(
+                [&row](std::string& text) {  // CLI::Range lets NaN through
+                  char* end = nullptr;
+                  const double v = std::strtod(text.c_str(), &end);
+                  if (end == text.c_str() || *end != '\0') return "Value " + text + " is not a number";
+                  if (!(v >= row.min && v <= row.max)) return "Value " + text + " not in range " + row.range_text();
+                  return std::string();
+                },
+                "FLOAT in [" + row.range_text() + "]"))
             ->default_str(fallback);
         break;
       case SettingType::Flag:
-        command.add_flag_function(
-            row.option() + ",!--" + row.off_option, [set](int64_t count) { set(count > 0); },
-            doc + " (default: " + (fallback == "true" ? row.option() : "--" + row.off_option) + ")");
+        command
+            .add_flag_function(
+                row.option() + ",!--" + row.off_option, [set](int64_t count) { set(count > 0); },
+                doc + " (default: " + (fallback == "true" ? row.option() : "--" + row.off_option) + ")")
+            ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // the last of --x / --no-x wins
         break;
       case SettingType::Choice:
         command

@@ -155,8 +155,9 @@ void append_frame_rows(std::vector<Setting>& rows) {
   rows.back().scope = kEverywhere & ~kConverge;
   rows.back().widget_max = 16;
   rows.push_back(number_row(
-      "seed", g, SettingType::Int, 0, 4294967295.0, [](auto& s) -> auto& { return s.seed; },
-      "Random seed; same seed, same image, whatever the thread count", kAllMethods));
+      "seed", g, SettingType::Int, 0, 9007199254740991.0 /* 2^53 - 1, exact in a double */,
+      [](auto& s) -> auto& { return s.seed; }, "Random seed; same seed, same image, whatever the thread count",
+      kAllMethods));
   rows.back().scope = kCommandLine | kScript | kConverge;
   rows.push_back(number_row(
       "max_depth", g, SettingType::Int, 1, 1024, [](auto& s) -> auto& { return s.max_depth; },
@@ -254,7 +255,7 @@ void append_denoiser_rows(std::vector<Setting>& rows) {
 
 // Whole numbers in full ("1048576"), others in the shortest of 6 significant digits ("0.1").
 std::string format_number(double x) {
-  if (x == std::floor(x) && std::abs(x) < 1e15) return std::to_string(int64_t(x));
+  if (x == std::floor(x) && std::abs(x) < 1e16) return std::to_string(int64_t(x));
   std::ostringstream out;
   out << x;
   return out.str();

@@ -16,12 +16,37 @@ namespace candela::python {
 namespace {
 
 // The Renderer and what Python's calls count: frames rendered (render_frame's default frame index and
-// time) and the camera of the next frame.
+// time), the camera of the next frame, and the generation of its state (set and reset_history start a new
+// one: earlier frames' AOVs are gone). `busy` while a call runs without the GIL: another Python thread's
+// call on the same renderer then raises instead of racing it.
 struct PyRenderer {
   std::unique_ptr<Renderer> renderer;
   int frames = 0;
+  int generation = 0;
   CameraDesc camera;
+  bool busy = false;
 };
+
+// Marks `r` busy for a call that releases the GIL (taken and released with the GIL held).
+class BusyScope {
+ public:
+  explicit BusyScope(PyRenderer& r) : r_(r) {
+    if (r_.busy) throw std::runtime_error("the Renderer is busy in another thread (one call at a time)");
+    r_.busy = true;
+  }
+  ~BusyScope() { r_.busy = false; }
+  BusyScope(const BusyScope&) = delete;
+  BusyScope& operator=(const BusyScope&) = delete;
+
+ private:
+  PyRenderer& r_;
+};
+
+// `r` when no other thread is inside one of its calls, else RuntimeError.
+PyRenderer& idle(PyRenderer& r) {
+  if (r.busy) throw std::runtime_error("the Renderer is busy in another thread (one call at a time)");
+  return r;
+}
 
 // One rendered frame: its radiance (the Renderer's image after the frame) and stats; its AOVs are read
 // from the renderer while it is still the renderer's last frame.
@@ -29,6 +54,7 @@ struct Frame {
   Image radiance;
   FrameStats stats;
   int index = 0;
+  int generation = 0;   // the renderer's generation when it was rendered
   py::object renderer;  // the PyRenderer that rendered it
 };
 
@@ -43,7 +69,8 @@ std::string known_settings() {
 // the row's range, with the range).
 double setting_value(const Setting& row, const py::handle& v) {
   const std::string key = row.key;
-  const bool is_bool = py::isinstance<py::bool_>(v), is_int = py::isinstance<py::int_>(v) && !is_bool;
+  // Python and NumPy integers (anything with __index__) count as ints, bools as bools only.
+  const bool is_bool = py::isinstance<py::bool_>(v), is_int = !is_bool && PyIndex_Check(v.ptr());
   auto out_of_range = [&](const std::string& got) {
     return py::value_error(key + ": must be " +
                            (row.type == SettingType::Choice ? "one of "
@@ -64,7 +91,12 @@ double setting_value(const Setting& row, const py::handle& v) {
       return v.cast<bool>() ? 1.0 : 0.0;
     case SettingType::Int: {
       if (!is_int) throw py::type_error(key + ": expected an int");
-      const long long x = v.cast<long long>();
+      long long x = 0;
+      try {
+        x = py::int_(py::reinterpret_borrow<py::object>(v)).cast<long long>();
+      } catch (const py::cast_error&) {
+        throw out_of_range(py::str(v).cast<std::string>());
+      }
       if (double(x) < row.min || double(x) > row.max ||
           (!row.values.empty() && std::find(row.values.begin(), row.values.end(), x) == row.values.end()))
         throw out_of_range(std::to_string(x));
@@ -169,10 +201,12 @@ void bind_renderer(py::module_& m) {
               for (const std::string& n : aov_names()) names += (names.empty() ? "" : ", ") + n;
               throw py::value_error("aov: '" + name + "' is not one of " + names);
             }
-            const PyRenderer& r = f.renderer.cast<const PyRenderer&>();
-            if (r.frames != f.index + 1)
-              throw py::value_error("aov: frame " + std::to_string(f.index) +
-                                    " is no longer the renderer's last frame (read AOVs before the next render_frame)");
+            PyRenderer& r = idle(f.renderer.cast<PyRenderer&>());
+            if (r.frames != f.index + 1 || r.generation != f.generation)
+              throw py::value_error(
+                  "aov: frame " + std::to_string(f.index) +
+                  " is no longer the renderer's last frame (read AOVs before the next render_frame, set or "
+                  "reset_history)");
             if (!aov_available(aov->aov, *r.renderer))
               throw py::value_error("aov: " + name + " needs method restir-di or restir");
             auto image = std::make_unique<Image>(aov_image(*r.renderer, aov->aov));
@@ -200,12 +234,14 @@ void bind_renderer(py::module_& m) {
           "render_frame",
           [](py::object self, std::optional<CameraDesc> camera, std::optional<float> time) {
             PyRenderer& r = self.cast<PyRenderer&>();
+            BusyScope busy(r);
             if (camera) r.camera = *camera;
             const float t = time.value_or(float(r.frames) / 30.0f);
             if (!std::isfinite(t)) throw py::value_error("time: not finite");
             Frame frame;
             frame.index = r.frames;
             frame.renderer = self;
+            frame.generation = r.generation;
             {
               py::gil_scoped_release release;
               frame.stats = r.renderer->render_frame(r.frames, t, r.camera);
@@ -220,20 +256,26 @@ void bind_renderer(py::module_& m) {
           "`candela render`'s --fps 30) from `camera` (default: the last one given, at first the scene's). A still "
           "camera and scene accumulate unless accumulate=False. The GIL is released while it renders.")
       .def(
-          "reset_history", [](PyRenderer& r) { r.renderer->reset_history(); },
+          "reset_history",
+          [](PyRenderer& r) {
+            idle(r).renderer->reset_history();
+            ++r.generation;
+          },
           "Forgets every frame so far: no temporal reuse, denoiser history or accumulation.")
       .def(
           "set",
           [](PyRenderer& r, const py::kwargs& kwargs) {
-            const RenderSettings settings = settings_from(kwargs, r.renderer->settings());
+            const RenderSettings settings = settings_from(kwargs, idle(r).renderer->settings());
+            BusyScope busy(r);
+            ++r.generation;
             py::gil_scoped_release release;
             r.renderer->apply_settings(settings);
           },
           "Changes settings (keyword arguments, as the constructor's) without rebuilding BVHs and light list; "
           "history starts over.")
-      .def_property_readonly("settings", [](const PyRenderer& r) { return settings_dict(r.renderer->settings()); })
+      .def_property_readonly("settings", [](PyRenderer& r) { return settings_dict(idle(r).renderer->settings()); })
       .def_property_readonly("frames_rendered", [](const PyRenderer& r) { return r.frames; })
-      .def_property_readonly("accumulated_spp", [](const PyRenderer& r) { return r.renderer->accumulated_spp(); });
+      .def_property_readonly("accumulated_spp", [](PyRenderer& r) { return idle(r).renderer->accumulated_spp(); });
 
   m.def("settings_schema", &schema_list,
         "Every render setting as a dict: key, type, group, default, range (min/max, values or names), methods, doc.");

@@ -16,7 +16,7 @@ if [ $update = 1 ]; then
     index($0, "<!-- " name " begin") == 1 { print; while ((getline line < file) > 0) print line; skip = 1; next }
     $0 == "<!-- " name " end -->" { skip = 0 }
     !skip { print }' "$doc" > "$tmp"
-  mv "$tmp" "$doc"
+  cat "$tmp" > "$doc" && rm "$tmp"  # keeps the page's permissions
   echo "updated $doc ($name)"
   exit 0
 fi

@@ -5,6 +5,8 @@
 // A second argument is the settings to start from. An unknown key or name, or a value outside its row,
 // throws std::invalid_argument naming the key (the test fails there). Members that are not settings (test
 // switches, internal parameters) are set on the result by hand.
+#include <algorithm>
+#include <cmath>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
@@ -44,6 +46,8 @@ inline RenderSettings settings(std::initializer_list<std::pair<const char*, Sett
       x = double(it - row->names.begin());
     } else if (value.is_name) {
       fail("expected a number");
+    } else if (row->type != SettingType::Float && x != std::floor(x)) {
+      fail(std::to_string(x) + " is not a whole number");
     } else if (row->type == SettingType::Flag ? x != 0.0 && x != 1.0 : !(x >= row->min && x <= row->max)) {
       fail(std::to_string(x) + " is out of range");
     } else if (!row->values.empty() && std::find(row->values.begin(), row->values.end(), int(x)) == row->values.end()) {

@@ -146,6 +146,27 @@ TEST(SettingsSchema, CommandLineRejectsValuesOutsideTheRow) {
   }
 }
 
+// Decimal settings refuse NaN and text; of a flag and its off option given several times, the last wins.
+TEST(SettingsSchema, CommandLineRefusesNanAndTakesTheLastFlag) {
+  for (const Setting& row : settings_schema()) {
+    if (!(row.scope & kCommandLine)) continue;
+    RenderSettings s;
+    CLI::App app;
+    add_setting_options(app, s, kCommandLine);
+    if (row.type == SettingType::Float) {
+      for (const char* bad : {"nan", "-nan", "1x"})
+        EXPECT_THROW(app.parse(std::vector<std::string>{bad, row.option()}), CLI::ValidationError)
+            << row.option() << " " << bad;
+    } else if (row.type == SettingType::Flag) {
+      const std::string on = row.option(), off = "--" + row.off_option;
+      app.parse(std::vector<std::string>{off, on});  // reversed: `on` first, then `off`
+      EXPECT_EQ(row.get(s), 0.0) << on << " " << off;
+      app.parse(std::vector<std::string>{on, off});
+      EXPECT_EQ(row.get(s), 1.0) << off << " " << on;
+    }
+  }
+}
+
 // A shot script with `"KEY": VALUE` sets the row's member, and only it; keys a script may not give are
 // refused with the row's reason.
 class ScriptFile {

@@ -1,9 +1,9 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Equal-time comparison of light samplers: direct light accumulated frame after frame with each sampler,
 its relMSE against a converged reference plotted against render time (log-log), and the time each sampler
 needs to reach the error the slowest one ends at.
 
-    PYTHONPATH=build/python python3 examples/python/equal_time_samplers.py --scene builtin:manylights
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/equal_time_samplers.py --scene builtin:manylights
 """
 import argparse
 import time

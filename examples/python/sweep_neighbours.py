@@ -1,9 +1,9 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """A parameter sweep of ReSTIR DI's spatial neighbours: for each count, the relMSE of one real-time frame
 (no accumulation, frame `--frames` of a still camera) against a converged reference, the frame time, and
 their product (lower: better at equal time), as a table and a bar plot.
 
-    PYTHONPATH=build/python python3 examples/python/sweep_neighbours.py --scene builtin:manylights
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/sweep_neighbours.py --scene builtin:manylights
 """
 import argparse
 import statistics

@@ -70,6 +70,9 @@ def test_bad_input_raises_with_the_message(cornell):
         candela.Renderer(cornell, jitter=1)
     with pytest.raises(TypeError, match="spp: expected an int"):
         candela.Renderer(cornell, spp=2.5)
+    with pytest.raises(ValueError, match="seed: must be in 0..9007199254740991, got"):
+        candela.Renderer(cornell, seed=2**70)
+    assert candela.Renderer(cornell, spp=np.int64(3), **SMALL).settings["spp"] == 3  # NumPy integers are ints
     with pytest.raises(ValueError, match="width x height"):
         candela.Renderer(cornell, width=16384, height=16384)
     with pytest.raises(candela.InputError, match="unknown built-in scene 'builtin:nope'"):
@@ -102,6 +105,11 @@ def test_arrays_have_the_documented_layout(cornell):
     r.render_frame()
     with pytest.raises(ValueError, match="no longer the renderer's last frame"):
         frame.aov("albedo")
+    for change in (lambda: r.reset_history(), lambda: r.set(spp=2)):
+        frame = r.render_frame()
+        change()
+        with pytest.raises(ValueError, match="no longer the renderer's last frame"):
+            frame.aov("albedo")
 
 
 def test_settings_change_without_a_new_renderer(cornell):
@@ -165,9 +173,37 @@ def test_a_thousand_frames_do_not_grow_memory(cornell):
     assert grown < 4096, f"resident memory grew by {grown} KB over 1000 frames"
 
 
+def test_frames_render_without_the_gil_and_one_call_at_a_time(manylights):
+    """While a frame renders in one thread, another runs Python (the GIL is released) and is refused the
+    renderer instead of racing it: the refusal can only happen while render_frame is in flight."""
+    import threading
+    r = candela.Renderer(manylights, method="restir", width=320, height=180)
+    refused = []
+    done = threading.Event()
+
+    def render():
+        try:
+            r.render_frame()
+        finally:
+            done.set()
+
+    thread = threading.Thread(target=render)
+    thread.start()
+    while not done.is_set() and not refused:
+        try:
+            r.settings
+        except RuntimeError as e:
+            refused.append(str(e))
+    thread.join()
+    assert refused, "the main thread never ran while the frame rendered, or was let in"
+    assert "busy in another thread" in refused[0]
+    assert r.frames_rendered == 1
+    assert r.settings["method"] == "restir"  # idle again
+
+
 def test_ctrl_c_stops_a_loop_of_frames(tmp_path):
-    """SIGINT while frames render raises KeyboardInterrupt in the loop once the frame ends (the GIL is
-    released meanwhile); the process then exits normally."""
+    """SIGINT while frames render raises KeyboardInterrupt in the loop (once the frame in flight ends); the
+    process then exits normally."""
     import os
     import signal
     import sys
