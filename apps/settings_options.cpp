@@ -30,7 +30,7 @@ void add_setting_options(CLI::App& command, RenderSettings& settings, unsigned s
                   char* end = nullptr;
                   const double v = std::strtod(text.c_str(), &end);
                   if (end == text.c_str() || *end != '\0') return "Value " + text + " is not a number";
-                  if (!(v >= row.min && v <= row.max)) return "Value " + text + " not in range " + row.range_text();
+                  if (!row.accepts(v)) return "Value " + text + " not in range " + row.range_text();
                   return std::string();
                 },
                 "FLOAT in [" + row.range_text() + "]"))
@@ -46,11 +46,7 @@ void add_setting_options(CLI::App& command, RenderSettings& settings, unsigned s
       case SettingType::Choice:
         command
             .add_option_function<std::string>(
-                row.option(),
-                [set, &row](const std::string& name) {
-                  set(double(std::find(row.names.begin(), row.names.end(), name) - row.names.begin()));
-                },
-                doc)
+                row.option(), [set, &row](const std::string& name) { set(double(row.name_index(name))); }, doc)
             ->check(CLI::IsMember(row.names))
             ->default_str(fallback);
         break;

@@ -303,6 +303,23 @@ bool Setting::applies(const RenderSettings& s) const {
   return (methods & bit) != 0 && (!relevant || relevant(s));
 }
 
+int Setting::name_index(const std::string& name) const {
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : int(it - names.begin());
+}
+
+bool Setting::accepts(double v) const {
+  switch (type) {
+    case SettingType::Int:
+      return v >= min && v <= max && v == std::floor(v) &&
+             (values.empty() || std::find(values.begin(), values.end(), int(v)) != values.end());
+    case SettingType::Float: return v >= min && v <= max;
+    case SettingType::Flag: return v == 0.0 || v == 1.0;
+    case SettingType::Choice: return v >= 0.0 && v < double(names.size()) && v == std::floor(v);
+  }
+  return false;
+}
+
 const std::vector<Setting>& settings_schema() {
   static const std::vector<Setting> rows = [] {
     std::vector<Setting> r;

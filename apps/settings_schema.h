@@ -67,6 +67,10 @@ struct Setting {
   std::string format(const RenderSettings& s) const;  // the value as the command line writes it
   std::string range_text() const;                     // "0..31", "3 or 5", "none, basic, pairwise", "flag"
   bool applies(const RenderSettings& s) const;        // the method is one of `methods`, and relevant
+  int name_index(const std::string& name) const;      // Choice: the index of `name` in `names`, or -1
+  // Whether `v` is a value of the row: Int and Float within [min, max] (NaN is not), Int a whole number and one
+  // of `values` where given, Flag 0 or 1, Choice an index into `names`.
+  bool accepts(double v) const;
 };
 
 // Every row, in the order of the docs (by group).

@@ -199,8 +199,7 @@ void read_render_settings(ObjectReader& r, ShotScript& s) {
     switch (row.type) {
       case SettingType::Int: {
         const int64_t v = r.integer(row.key, int64_t(row.min), int64_t(row.max), int64_t(fallback));
-        if (!row.values.empty() && std::find(row.values.begin(), row.values.end(), v) == row.values.end())
-          r.fail(row.key, "must be " + row.range_text() + ", got " + std::to_string(v));
+        if (!row.accepts(double(v))) r.fail(row.key, "must be " + row.range_text() + ", got " + std::to_string(v));
         row.set(st, double(v));
         break;
       }
@@ -208,7 +207,7 @@ void read_render_settings(ObjectReader& r, ShotScript& s) {
       case SettingType::Flag: row.set(st, r.flag(row.key, fallback != 0.0)); break;
       case SettingType::Choice: {
         const std::string name = r.choice(row.key, row.names, row.names.at(size_t(fallback)));
-        row.set(st, double(std::find(row.names.begin(), row.names.end(), name) - row.names.begin()));
+        row.set(st, double(row.name_index(name)));
         break;
       }
     }

@@ -82,9 +82,9 @@ double setting_value(const Setting& row, const py::handle& v) {
     case SettingType::Choice: {
       if (!py::isinstance<py::str>(v)) throw py::type_error(key + ": expected a str (" + row.range_text() + ")");
       const std::string name = v.cast<std::string>();
-      const auto it = std::find(row.names.begin(), row.names.end(), name);
-      if (it == row.names.end()) throw out_of_range("'" + name + "'");
-      return double(it - row.names.begin());
+      const int index = row.name_index(name);
+      if (index < 0) throw out_of_range("'" + name + "'");
+      return double(index);
     }
     case SettingType::Flag:
       if (!is_bool) throw py::type_error(key + ": expected a bool");
@@ -97,15 +97,13 @@ double setting_value(const Setting& row, const py::handle& v) {
       } catch (const py::cast_error&) {
         throw out_of_range(py::str(v).cast<std::string>());
       }
-      if (double(x) < row.min || double(x) > row.max ||
-          (!row.values.empty() && std::find(row.values.begin(), row.values.end(), x) == row.values.end()))
-        throw out_of_range(std::to_string(x));
+      if (!row.accepts(double(x))) throw out_of_range(std::to_string(x));
       return double(x);
     }
     case SettingType::Float: {
       if (!is_int && !py::isinstance<py::float_>(v)) throw py::type_error(key + ": expected a number");
       const double x = v.cast<double>();
-      if (!(x >= row.min && x <= row.max)) throw out_of_range(py::str(v).cast<std::string>());
+      if (!row.accepts(x)) throw out_of_range(py::str(v).cast<std::string>());
       return x;
     }
   }

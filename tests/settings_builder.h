@@ -41,17 +41,12 @@ inline RenderSettings settings(std::initializer_list<std::pair<const char*, Sett
     double x = value.number;
     if (row->type == SettingType::Choice) {
       if (!value.is_name) fail("expected a name");
-      auto it = std::find(row->names.begin(), row->names.end(), value.name);
-      if (it == row->names.end()) fail("'" + value.name + "' is not a name");
-      x = double(it - row->names.begin());
+      x = double(row->name_index(value.name));
+      if (x < 0.0) fail("'" + value.name + "' is not a name");
     } else if (value.is_name) {
       fail("expected a number");
-    } else if (row->type != SettingType::Float && x != std::floor(x)) {
-      fail(std::to_string(x) + " is not a whole number");
-    } else if (row->type == SettingType::Flag ? x != 0.0 && x != 1.0 : !(x >= row->min && x <= row->max)) {
-      fail(std::to_string(x) + " is out of range");
-    } else if (!row->values.empty() && std::find(row->values.begin(), row->values.end(), int(x)) == row->values.end()) {
-      fail(std::to_string(x) + " is not allowed");
+    } else if (!row->accepts(x)) {
+      fail(std::to_string(x) + " is not a value of the setting");
     }
     row->set(base, x);
   }
