@@ -19,6 +19,10 @@ class Camera {
   }
   const vec3& position() const { return position_; }
   const vec3& forward() const { return forward_; }
+  const vec3& right() const { return right_; }
+  const vec3& up() const { return up_; }
+  float tan_half_x() const { return tan_half_x_; }
+  float tan_half_y() const { return tan_half_y_; }
   // Film position (pixels) of world point p; false when p is behind the camera.
   bool project(const vec3& p, vec2& film) const;
   // Distance along the view axis (linear depth).

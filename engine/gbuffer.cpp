@@ -1,5 +1,6 @@
 #include "engine/gbuffer.h"
 
+#include "engine/gbuffer_lanes.h"
 #include "engine/rng.h"
 #include "engine/surface.h"
 #include "engine/tiles.h"
@@ -59,57 +60,92 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   g.motion[i] = prev_camera.project(prev_position, prev_film) ? prev_film - film : vec2(0.0f);
 }
 
+// Stage "rays" of a tile: one jittered primary ray per pixel (jitter from a per-pixel Rng, directions in
+// lanes), traced as 4x4 packets (rtcIntersect16, coherent); writes the jitter plane and, per tile row, each
+// pixel's film position, direction and hit.
+static void trace_tile(const Tracer& tracer, const Camera& camera, const GBufferParams& params, const Tile& tile,
+                       GBuffer& out, PrimaryHitLanes* rows) {
+  const int w = out.width, count = tile.x1 - tile.x0;
+  for (int y = tile.y0; y < tile.y1; ++y) {
+    PrimaryHitLanes& row = rows[y - tile.y0];
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      vec2 j(0.5f);
+      if (params.jitter) {
+        Rng rng = Rng::for_key(params.seed, i, uint64_t(params.frame), 0x6b);
+        j = vec2(rng.next_float(), rng.next_float());
+      }
+      out.jitter[i] = j;
+      const int s = x - tile.x0;
+      row.film[0][s] = float(x) + j.x;
+      row.film[1][s] = float(y) + j.y;
+      if (!params.simd) {
+        const vec3 dir = camera.direction(row.film[0][s], row.film[1][s]);
+        row.dir[0][s] = dir.x, row.dir[1][s] = dir.y, row.dir[2][s] = dir.z;
+      }
+    }
+    if (params.simd) camera_directions_lanes(camera, count, row);
+  }
+  RayPacket16 packet;
+  for (int by = tile.y0; by < tile.y1; by += 4) {
+    for (int bx = tile.x0; bx < tile.x1; bx += 4) {
+      // One 4x4 packet, row r of it from tile row by + r; lanes outside the image stay inactive.
+      const int s = bx - tile.x0, n = std::min(4, tile.x1 - bx);
+      for (int r = 0; r < 4; ++r) {
+        const PrimaryHitLanes& row = rows[std::min(by + r, tile.y1 - 1) - tile.y0];
+        packet.set_row4(r, camera.position(), row.dir[0] + s, row.dir[1] + s, row.dir[2] + s, by + r < tile.y1 ? n : 0);
+      }
+      tracer.intersect16(packet, true);
+      for (int r = 0; r < 4 && by + r < tile.y1; ++r) {
+        PrimaryHitLanes& row = rows[by + r - tile.y0];
+        tracer.packet_hits_row4(packet, r, row.instance + s, row.prim + s, row.u + s, row.v + s);
+      }
+    }
+  }
+}
+
+// Stage "corners" of a tile row: reads the meshes of the row's hits; writes each hit triangle's object-space
+// corners and vertex normals into `row` (0 where there is none). Scalar, ~20 loads per hit.
+static void fetch_corners(const Scene& scene, int count, PrimaryHitLanes& row) {
+  for (int s = 0; s < count; ++s) {
+    const Mesh* mesh = row.instance[s] == kNoHit ? nullptr : &scene.meshes[scene.instances[row.instance[s]].mesh];
+    const uvec3 tri = mesh ? mesh->triangles[row.prim[s]] : uvec3(0);
+    for (int k = 0; k < 3; ++k) {
+      const vec3 p = mesh ? mesh->positions[tri[k]] : vec3(0.0f);
+      const vec3 n = mesh && !mesh->normals.empty() ? mesh->normals[tri[k]] : vec3(0.0f);
+      for (int a = 0; a < 3; ++a) row.corner[k][a][s] = p[a], row.normal[k][a][s] = n[a];
+    }
+  }
+}
+
 void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camera, const Camera& prev_camera,
                    const GBufferParams& params, GBuffer& out, RayCounter& rays) {
   if (out.width != camera.width() || out.height != camera.height()) out.resize(camera.width(), camera.height());
-  const int w = out.width;
-  // Per animated instance, the map from this frame's world position to last frame's (identity otherwise).
-  std::vector<mat4> prev_from_current(scene.instances.size(), mat4(1.0f));
-  for (size_t k = 0; k < scene.instances.size(); ++k)
-    if (scene.instances[k].animated)
-      prev_from_current[k] = scene.instances[k].prev_transform * glm::inverse(scene.instances[k].transform);
+  const GBufferInstances instances(scene);
   for_each_tile(out.width, out.height, [&](const Tile& tile) {
     // Trace every packet of the tile first, then shade: alternating Embree's traversal code with
     // shading code every 16 rays costs instruction-cache misses.
-    constexpr int kMaxPixels = kTileWidth * kTileHeight;
-    Hit hits[kMaxPixels];
-    vec3 dirs[kMaxPixels];
-    vec2 film[kMaxPixels];
-    uint32_t pixel[kMaxPixels];
-    int count = 0;
-    RayPacket16 packet;
-    for (int by = tile.y0; by < tile.y1; by += 4) {
-      for (int bx = tile.x0; bx < tile.x1; bx += 4) {
-        // One 4x4 packet; lanes outside the image stay inactive.
-        int first = count;
-        for (int lane = 0; lane < 16; ++lane) {
-          int x = bx + (lane & 3), y = by + (lane >> 2);
-          if (x >= tile.x1 || y >= tile.y1) {
-            packet.set_inactive(lane);
-            continue;
-          }
-          uint32_t i = uint32_t(y) * uint32_t(w) + uint32_t(x);
-          vec2 j(0.5f);
-          if (params.jitter) {
-            Rng rng = Rng::for_key(params.seed, i, uint64_t(params.frame), 0x6b);
-            j = vec2(rng.next_float(), rng.next_float());
-          }
-          film[count] = vec2(x, y) + j;
-          out.jitter[i] = j;
-          dirs[count] = camera.direction(film[count].x, film[count].y);
-          pixel[count] = i;
-          packet.set(lane, Ray{camera.position(), dirs[count], 0.0f, kInfinity});
-          ++count;
-        }
-        tracer.intersect16(packet, true);
-        for (int lane = 0, k = first; lane < 16; ++lane)
-          if (packet.valid[lane]) hits[k++] = tracer.packet_hit(packet, lane);
+    PrimaryHitLanes rows[kTileHeight];
+    trace_tile(tracer, camera, params, tile, out, rows);
+    // Stage "shade", per tile row: the kernel writes every pixel, then surface_at rewrites the hits on
+    // textured materials (every pixel for the scalar reference).
+    const int count = tile.x1 - tile.x0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      PrimaryHitLanes& row = rows[y - tile.y0];
+      const size_t first = size_t(y) * size_t(out.width) + size_t(tile.x0);
+      if (params.simd) {
+        fetch_corners(scene, count, row);
+        shade_gbuffer_lanes(instances, camera, prev_camera, scene.environment, row, count, first, out);
+      }
+      for (int s = 0; s < count; ++s) {
+        if (params.simd && (row.instance[s] == kNoHit || instances.plain[row.instance[s]])) continue;
+        const Hit hit{0.0f, row.instance[s], row.prim[s], vec2(row.u[s], row.v[s])};
+        write_pixel(scene, instances.prev_from_current, camera, prev_camera, hit,
+                    vec3(row.dir[0][s], row.dir[1][s], row.dir[2][s]), vec2(row.film[0][s], row.film[1][s]),
+                    first + size_t(s), out);
       }
     }
-    for (int k = 0; k < count; ++k)
-      write_pixel(scene, prev_from_current, camera, prev_camera, hits[k], dirs[k], film[k], pixel[k], out);
-    uint64_t traced = uint64_t(count);
-    rays.add(traced);
+    rays.add(uint64_t(count) * uint64_t(tile.y1 - tile.y0));
   });
 }
 

@@ -38,10 +38,12 @@ struct GBufferParams {
   uint64_t seed = 0;
   int frame = 0;
   bool jitter = true;  // false: rays through pixel centres
+  bool simd = true;    // false: every pixel through surface_at (the reference the SIMD kernel is tested against)
 };
 
 // Reads scene, tracer and both cameras; writes every plane of `out`. Traces one ray per pixel
-// (rtcIntersect16 on 4x4 pixel blocks, coherent flag); shading costs one surface_at per hit.
+// (rtcIntersect16 on 4x4 pixel blocks, coherent flag); shades a tile row at a time in SIMD lanes
+// (gbuffer_lanes.h), hits on textured materials with surface_at.
 void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camera, const Camera& prev_camera,
                    const GBufferParams& params, GBuffer& out, RayCounter& rays);
 

@@ -26,8 +26,7 @@ vec3 material_emission(const Scene& scene, const Material& m, vec2 uv0, vec2 uv1
   return m.emission * vec3(lookup(scene, m.emissive_tex, uv0, uv1));
 }
 
-// Cofactor matrix of the linear part: transforms normals like the inverse transpose, up to a positive scale.
-static mat3 normal_matrix(const mat4& m) {
+mat3 normal_matrix(const mat4& m) {
   mat3 a(m);
   return mat3(glm::cross(a[1], a[2]), glm::cross(a[2], a[0]), glm::cross(a[0], a[1]));
 }

@@ -31,6 +31,8 @@ struct WorldTriangle {
   }
 };
 WorldTriangle world_triangle(const Scene& scene, uint32_t instance, uint32_t prim);
+// Cofactor matrix of the linear part: transforms normals like the inverse transpose, up to a positive scale.
+mat3 normal_matrix(const mat4& m);
 
 // Full shading data of the point at barycentric (u, v) on (instance, prim), seen from direction wo.
 SurfacePoint surface_at(const Scene& scene, uint32_t instance, uint32_t prim, vec2 barycentric, const vec3& wo);

@@ -50,6 +50,40 @@ void RayPacket16::set(int lane, const Ray& ray) {
   valid[lane] = -1;
 }
 
+void RayPacket16::set_row4(int r, const vec3& origin, const float* dx, const float* dy, const float* dz, int n) {
+  RTCRay16& ray = rayhit.ray;
+  const int first = 4 * r;
+  std::memcpy(ray.dir_x + first, dx, 4 * sizeof(float));
+  std::memcpy(ray.dir_y + first, dy, 4 * sizeof(float));
+  std::memcpy(ray.dir_z + first, dz, 4 * sizeof(float));
+  for (int lane = first; lane < first + 4; ++lane) {
+    ray.org_x[lane] = origin.x;
+    ray.org_y[lane] = origin.y;
+    ray.org_z[lane] = origin.z;
+    ray.tnear[lane] = 0.0f;
+    ray.tfar[lane] = kInfinity;
+    ray.time[lane] = 0.0f;
+    ray.mask[lane] = 0xffffffffu;
+    ray.id[lane] = unsigned(lane);
+    ray.flags[lane] = 0;
+    rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+    rayhit.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+    valid[lane] = lane < first + n ? -1 : 0;
+  }
+}
+
+void Tracer::packet_hits_row4(const RayPacket16& packet, int r, uint32_t* instance, uint32_t* prim, float* u,
+                              float* v) const {
+  const RTCHit16& hit = packet.rayhit.hit;
+  for (int k = 0, lane = 4 * r; k < 4; ++k, ++lane)
+    instance[k] = packet.valid[lane] && hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID
+                      ? scene_instance(hit.instID[0][lane], hit.geomID[lane])
+                      : kNoHit;
+  std::memcpy(prim, hit.primID + 4 * r, 4 * sizeof(uint32_t));
+  std::memcpy(u, hit.u + 4 * r, 4 * sizeof(float));
+  std::memcpy(v, hit.v + 4 * r, 4 * sizeof(float));
+}
+
 Hit Tracer::packet_hit(const RayPacket16& packet, int lane) const {
   Hit h;
   if (!packet.valid[lane] || packet.rayhit.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) return h;

@@ -43,6 +43,9 @@ struct alignas(64) RayPacket16 {
   alignas(64) int valid[16];
   void set(int lane, const Ray& ray);
   void set_inactive(int lane) { valid[lane] = 0; }
+  // Lanes [4r, 4r + 4), row r of a 4x4 pixel block: rays from `origin` along (dx[k], dy[k], dz[k]) for k < n,
+  // from tmin 0 to infinity; the other lanes of the row inactive.
+  void set_row4(int r, const vec3& origin, const float* dx, const float* dy, const float* dz, int n);
 };
 
 // Sets flush-to-zero and denormals-are-zero for the calling thread (Embree's advice for speed).
@@ -65,6 +68,8 @@ class Tracer {
   void occluded16(RayPacket16& packet) const;  // afterwards tfar < 0 in a lane means occluded
   // The hit of one lane after intersect16, with the scene's instance index.
   Hit packet_hit(const RayPacket16& packet, int lane) const;
+  // packet_hit of the 4 lanes [4r, 4r + 4) into arrays: scene instance (kNoHit where none), prim, Embree's u, v.
+  void packet_hits_row4(const RayPacket16& packet, int r, uint32_t* instance, uint32_t* prim, float* u, float* v) const;
   static bool occluded_lane(const RayPacket16& packet, int lane) { return packet.rayhit.ray.tfar[lane] < 0.0f; }
 
   // A ray leaving surface point p (geometric normal ng) in direction d, offset to avoid self-hits.

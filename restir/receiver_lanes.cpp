@@ -7,7 +7,7 @@
 #define HWY_TARGET_INCLUDE "restir/receiver_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
-#include "restir/lanes-inl.h"
+#include "engine/lanes-inl.h"
 #include "restir/receiver_lanes.h"
 
 HWY_BEFORE_NAMESPACE();

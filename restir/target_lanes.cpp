@@ -8,7 +8,7 @@
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 #include "restir/target_lanes.h"
-#include "restir/lanes-inl.h"
+#include "engine/lanes-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace candela {

@@ -14,7 +14,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 using D = hn::CappedTag<float, kTreeWidth>;
 using V = hn::Vec<D>;
 
-// The helpers have internal linkage: restir/lanes-inl.h declares a V3 and a dot of its own (over full-width
+// The helpers have internal linkage: engine/lanes-inl.h declares a V3 and a dot of its own (over full-width
 // vectors) in this same namespace, and two external definitions of one name would be merged by the linker.
 namespace {
 

@@ -1,12 +1,13 @@
-// Highway helpers shared by ReSTIR's SIMD kernels (target_lanes.cpp, receiver_lanes.cpp): vectors of
-// 3-vectors and the scalar code's dot product and GGX albedo lookup, each repeating the scalar operations in
+// Highway helpers shared by the SIMD kernels over pixels (engine/gbuffer_lanes.cpp, restir/target_lanes.cpp,
+// restir/receiver_lanes.cpp): vectors of 3-vectors and the scalar code's dot and cross products, normalise and
+// GGX albedo lookup, each repeating the scalar operations in
 // the same order so that the kernels keep the scalar code's bits. Included once per instruction set by
 // each kernel's foreach_target.h pass, hence the toggling include guard (Highway's "-inl.h" convention).
-#if defined(CANDELA_RESTIR_LANES_INL_H_) == defined(HWY_TARGET_TOGGLE)
-#ifdef CANDELA_RESTIR_LANES_INL_H_
-#undef CANDELA_RESTIR_LANES_INL_H_
+#if defined(CANDELA_ENGINE_LANES_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef CANDELA_ENGINE_LANES_INL_H_
+#undef CANDELA_ENGINE_LANES_INL_H_
 #else
-#define CANDELA_RESTIR_LANES_INL_H_
+#define CANDELA_ENGINE_LANES_INL_H_
 #endif
 
 #include "engine/ggx_albedo.h"
@@ -36,6 +37,11 @@ inline void store3(D d, const V3& v, float* x, float* y, float* z, int s) {
 // glm::dot: (a.x b.x + a.y b.y) + a.z b.z.
 inline V dot(const V3& a, const V3& b) {
   return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
+}
+// glm::cross: (a.y b.z - b.y a.z, a.z b.x - b.z a.x, a.x b.y - b.x a.y).
+inline V3 cross(const V3& a, const V3& b) {
+  return {hn::Sub(hn::Mul(a.y, b.z), hn::Mul(b.y, a.z)), hn::Sub(hn::Mul(a.z, b.x), hn::Mul(b.z, a.x)),
+          hn::Sub(hn::Mul(a.x, b.y), hn::Mul(b.x, a.y))};
 }
 // glm::normalize: v * (1 / sqrt(dot(v, v))).
 inline V3 normalize(D d, const V3& v) {

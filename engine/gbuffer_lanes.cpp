@@ -1,0 +1,273 @@
+// The G-buffer kernel (gbuffer_lanes.h), compiled once per instruction set by Highway's foreach_target.h and
+// dispatched at run time. Each step names the scalar function whose arithmetic it repeats, in the same order
+// (engine/surface.cpp world_triangle and surface_at, engine/camera.h Camera::view_depth and Camera::project,
+// engine/gbuffer.cpp write_pixel).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "engine/gbuffer_lanes.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+// clang-format off
+#include "engine/lanes-inl.h"
+// clang-format on
+#include <cstring>
+
+#include "engine/gbuffer_lanes.h"
+#include "engine/surface.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace candela {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DU = hn::RebindToUnsigned<D>;
+using VU = hn::Vec<DU>;
+using F = GBufferInstances::Field;
+
+// Per-frame constants of the kernel: the two cameras and the background, broadcast once.
+struct Cameras {
+  V3 eye, forward;                         // Camera::view_depth
+  V3 prev_eye, prev_forward, prev_right, prev_up;  // Camera::project of the previous camera
+  V prev_tan_x, prev_tan_y, prev_width, prev_height;
+  V3 environment;
+};
+
+V3 broadcast(D d, const vec3& v) { return {hn::Set(d, v.x), hn::Set(d, v.y), hn::Set(d, v.z)}; }
+V3 neg(const V3& v) { return {hn::Neg(v.x), hn::Neg(v.y), hn::Neg(v.z)}; }
+V3 sub(const V3& a, const V3& b) { return {hn::Sub(a.x, b.x), hn::Sub(a.y, b.y), hn::Sub(a.z, b.z)}; }
+V3 select(M m, const V3& a, const V3& b) {
+  return {hn::IfThenElse(m, a.x, b.x), hn::IfThenElse(m, a.y, b.y), hn::IfThenElse(m, a.z, b.z)};
+}
+V3 zero_unless(M m, const V3& a) {
+  return {hn::IfThenElseZero(m, a.x), hn::IfThenElseZero(m, a.y), hn::IfThenElseZero(m, a.z)};
+}
+// a w + b u + c v in glm's order: (a w + b u) + c v.
+V3 interpolate(const V3& a, const V3& b, const V3& c, V w, V u, V v) {
+  auto one = [&](V x, V y, V z) { return hn::Add(hn::Add(hn::Mul(x, w), hn::Mul(y, u)), hn::Mul(z, v)); };
+  return {one(a.x, b.x, c.x), one(a.y, b.y, c.y), one(a.z, b.z, c.z)};
+}
+
+// The instance records' fields for every lane: one broadcast where all hit lanes share an instance (most
+// vectors: neighbouring pixels see the same object), gathers otherwise.
+struct Records {
+  const float* records;
+  VI base;                // lane's record offset (0 for misses)
+  const float* uniform;   // the hit lanes' common record, or null
+  V operator()(D d, int k) const {
+    return uniform ? hn::Set(d, uniform[k]) : hn::GatherIndex(d, records, hn::Add(base, hn::Set(DI(), k)));
+  }
+  V3 vec3_at(D d, int k) const { return {(*this)(d, k), (*this)(d, k + 1), (*this)(d, k + 2)}; }
+  // transform_point: row r of m * vec4(p, 1) as glm evaluates it, (m0 x + m1 y) + (m2 z + m3 * 1).
+  V3 transform_point(D d, int k, const V3& p) const {
+    auto row = [&](int r) {
+      const V m0 = (*this)(d, k + r), m1 = (*this)(d, k + 3 + r), m2 = (*this)(d, k + 6 + r), m3 = (*this)(d, k + 9 + r);
+      return hn::Add(hn::Add(hn::Mul(m0, p.x), hn::Mul(m1, p.y)), hn::Add(hn::Mul(m2, p.z), m3));
+    };
+    return {row(0), row(1), row(2)};
+  }
+  // mat3 * vec3 as glm evaluates it: (m0 x + m1 y) + m2 z.
+  V3 transform_vector(D d, int k, const V3& v) const {
+    auto row = [&](int r) {
+      const V m0 = (*this)(d, k + r), m1 = (*this)(d, k + 3 + r), m2 = (*this)(d, k + 6 + r);
+      return hn::Add(hn::Add(hn::Mul(m0, v.x), hn::Mul(m1, v.y)), hn::Mul(m2, v.z));
+    };
+    return {row(0), row(1), row(2)};
+  }
+};
+M is_finite(D d, const V3& v) {
+  const V inf = hn::Set(d, kInfinity);
+  return hn::And(hn::And(hn::Lt(hn::Abs(v.x), inf), hn::Lt(hn::Abs(v.y), inf)), hn::Lt(hn::Abs(v.z), inf));
+}
+
+// Camera::project of the previous camera: `film` gets the film position where `valid`.
+void project(D d, const Cameras& c, const V3& p, M& valid, V& film_x, V& film_y) {
+  const V3 v = sub(p, c.prev_eye);
+  const V z = dot(v, c.prev_forward);
+  const V one = hn::Set(d, 1.0f), half = hn::Set(d, 0.5f);
+  valid = hn::Not(hn::Le(z, hn::Zero(d)));
+  const V sx = hn::Div(dot(v, c.prev_right), hn::Mul(z, c.prev_tan_x));
+  const V sy = hn::Div(dot(v, c.prev_up), hn::Mul(z, c.prev_tan_y));
+  film_x = hn::Mul(hn::Mul(hn::Add(sx, one), half), c.prev_width);
+  film_y = hn::Mul(hn::Mul(hn::Sub(one, sy), half), c.prev_height);
+}
+
+// Stores lanes [0, n) of each vector at dst (n <= lanes): straight into the plane for a whole vector, through
+// a buffer for the last part of a row.
+template <class T, class Vec, class Tag>
+void store_first(Tag t, Vec v, int n, T* dst) {
+  if (n == int(hn::Lanes(t))) return hn::StoreU(v, t, dst);
+  HWY_ALIGN T buffer[16];
+  hn::Store(v, t, buffer);
+  std::memcpy(dst, buffer, sizeof(T) * size_t(n));
+}
+void store_first(D d, const V3& v, int n, vec3* dst) {
+  if (n == int(hn::Lanes(d))) return hn::StoreInterleaved3(v.x, v.y, v.z, d, &dst->x);
+  HWY_ALIGN float buffer[48];
+  hn::StoreInterleaved3(v.x, v.y, v.z, d, buffer);
+  std::memcpy(dst, buffer, sizeof(vec3) * size_t(n));
+}
+void store_first(D d, V x, V y, int n, vec2* dst) {
+  if (n == int(hn::Lanes(d))) return hn::StoreInterleaved2(x, y, d, &dst->x);
+  HWY_ALIGN float buffer[32];
+  hn::StoreInterleaved2(x, y, d, buffer);
+  std::memcpy(dst, buffer, sizeof(vec2) * size_t(n));
+}
+
+// One vector of slots [s, s + lanes): writes the first `count` of them to pixels [pixel, pixel + n).
+void shade(D d, const float* records, const Cameras& c, const PrimaryHitLanes& h, int s, int count, size_t pixel,
+           GBuffer& out) {
+  const DI di;
+  const DU du;
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+  const VU no_hit = hn::Set(du, kNoHit);
+  const VU instance = hn::IfThenElse(hn::FirstN(du, size_t(count)), hn::Load(du, h.instance + s), no_hit);
+  const M hit = hn::RebindMask(d, hn::Ne(instance, no_hit));
+  const uint32_t first = h.instance[s];
+  const bool uniform =
+      first != kNoHit && hn::AllTrue(du, hn::Or(hn::Eq(instance, no_hit), hn::Eq(instance, hn::Set(du, first))));
+  const Records r{records,
+                  hn::Mul(hn::IfThenElseZero(hn::RebindMask(di, hit), hn::BitCast(di, instance)),
+                          hn::Set(di, int(GBufferInstances::kFields))),
+                  uniform ? records + size_t(first) * GBufferInstances::kFields : nullptr};
+  const V u = hn::Load(d, h.u + s), v = hn::Load(d, h.v + s);
+  const V3 dir = load3(d, h.dir[0], h.dir[1], h.dir[2], s);
+  const V film_x = hn::Load(d, h.film[0] + s), film_y = hn::Load(d, h.film[1] + s);
+  const V3 wo = neg(dir);
+
+  // world_triangle: the corners in world space.
+  V3 p[3], vn[3];
+  for (int k = 0; k < 3; ++k) {
+    p[k] = r.transform_point(d, F::kTransform, load3(d, h.corner[k][0], h.corner[k][1], h.corner[k][2], s));
+    vn[k] = load3(d, h.normal[k][0], h.normal[k][1], h.normal[k][2], s);
+  }
+  // surface_at: position, the front face's normal, the side wo sees.
+  const V w = hn::Sub(hn::Sub(one, u), v);
+  const V3 position = interpolate(p[0], p[1], p[2], w, u, v);
+  const V3 face = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+  const V3 n_front = normalize(d, select(hn::Gt(r(d, F::kMirrored), zero), neg(face), face));
+  const M front = hn::Ge(dot(n_front, wo), zero);
+  const V3 ng = select(front, n_front, neg(n_front));
+  // surface_at: the interpolated vertex normal through the normal matrix, on the front side, then on wo's.
+  const V3 interpolated = normalize(d, r.transform_vector(d, F::kNormalMatrix, interpolate(vn[0], vn[1], vn[2], w, u, v)));
+  V3 ns = select(hn::Gt(r(d, F::kHasNormals), zero), interpolated, n_front);
+  ns = select(is_finite(d, ns), ns, n_front);
+  ns = select(hn::Lt(dot(ns, n_front), zero), neg(ns), ns);
+  ns = select(front, ns, neg(ns));
+  ns = select(hn::Le(dot(ns, wo), hn::Set(d, 1e-4f)), ng, ns);
+
+  // write_pixel: depth, the motion vector of the point (through last frame's instance transform if animated)
+  // or, for a miss, of the direction (Camera::project of prev_eye + dir).
+  const V depth = dot(sub(position, c.eye), c.forward);
+  const M animated = hn::Gt(r(d, F::kAnimated), zero);
+  const V3 moved = r.transform_point(d, F::kPrevFromCurrent, position);
+  const V3 far_point{hn::Add(c.prev_eye.x, dir.x), hn::Add(c.prev_eye.y, dir.y), hn::Add(c.prev_eye.z, dir.z)};
+  M projected;
+  V prev_x, prev_y;
+  project(d, c, select(hit, select(animated, moved, position), far_point), projected, prev_x, prev_y);
+  store_first(d, hn::IfThenElseZero(projected, hn::Sub(prev_x, film_x)),
+              hn::IfThenElseZero(projected, hn::Sub(prev_y, film_y)), count, out.motion.data() + pixel);
+
+  // surface_at: the material's constants; emission on the front side or both (kEmission is 0 unless it emits).
+  const V3 emission = zero_unless(hn::Or(front, hn::Gt(r(d, F::kDoubleSided), zero)), r.vec3_at(d, F::kEmission));
+  const V3 material{r(d, F::kRoughness), r(d, F::kMetallic), r(d, F::kSpecular)};
+  store_first(d, zero_unless(hit, position), count, out.position.data() + pixel);
+  store_first(d, zero_unless(hit, ns), count, out.shading_normal.data() + pixel);
+  store_first(d, zero_unless(hit, ng), count, out.geometric_normal.data() + pixel);
+  store_first(d, hn::IfThenElse(hit, depth, hn::Set(d, kInfinity)), count, out.depth.data() + pixel);
+  store_first(d, zero_unless(hit, r.vec3_at(d, F::kBaseColor)), count, out.albedo.data() + pixel);
+  store_first(d, zero_unless(hit, material), count, out.material.data() + pixel);
+  store_first(d, zero_unless(hit, r.vec3_at(d, F::kSpecularF0)), count, out.specular_f0.data() + pixel);
+  store_first(d, select(hit, emission, c.environment), count, out.emission.data() + pixel);
+  store_first(du, instance, count, out.instance.data() + pixel);
+  store_first(du, hn::IfThenElse(hn::RebindMask(du, hit), hn::Load(du, h.prim + s), no_hit), count,
+              out.prim.data() + pixel);
+}
+
+// Camera::direction: normalize(forward + right ((2x / width - 1) tan_x) - up ((2y / height - 1) tan_y)).
+void CameraDirectionsLanes(const Camera& camera, int count, PrimaryHitLanes& row) {
+  const D d;
+  const V two = hn::Set(d, 2.0f), one = hn::Set(d, 1.0f);
+  const V width = hn::Set(d, float(camera.width())), height = hn::Set(d, float(camera.height()));
+  const V tan_x = hn::Set(d, camera.tan_half_x()), tan_y = hn::Set(d, camera.tan_half_y());
+  const V3 forward = broadcast(d, camera.forward()), right = broadcast(d, camera.right()), up = broadcast(d, camera.up());
+  for (int s = 0; s < count; s += int(hn::Lanes(d))) {
+    const V a = hn::Mul(hn::Sub(hn::Div(hn::Mul(two, hn::Load(d, row.film[0] + s)), width), one), tan_x);
+    const V b = hn::Mul(hn::Sub(hn::Div(hn::Mul(two, hn::Load(d, row.film[1] + s)), height), one), tan_y);
+    auto axis = [&](V f, V r, V u) { return hn::Sub(hn::Add(f, hn::Mul(r, a)), hn::Mul(u, b)); };
+    store3(d, normalize(d, {axis(forward.x, right.x, up.x), axis(forward.y, right.y, up.y), axis(forward.z, right.z, up.z)}),
+           row.dir[0], row.dir[1], row.dir[2], s);
+  }
+}
+
+void ShadeGBufferLanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera,
+                       const vec3& environment, const PrimaryHitLanes& hits, int count, size_t first_pixel,
+                       GBuffer& out) {
+  const D d;
+  const Cameras c{broadcast(d, camera.position()),
+                  broadcast(d, camera.forward()),
+                  broadcast(d, prev_camera.position()),
+                  broadcast(d, prev_camera.forward()),
+                  broadcast(d, prev_camera.right()),
+                  broadcast(d, prev_camera.up()),
+                  hn::Set(d, prev_camera.tan_half_x()),
+                  hn::Set(d, prev_camera.tan_half_y()),
+                  hn::Set(d, float(prev_camera.width())),
+                  hn::Set(d, float(prev_camera.height())),
+                  broadcast(d, environment)};
+  const int lanes = int(hn::Lanes(d));
+  for (int s = 0; s < count; s += lanes)
+    shade(d, instances.records.data(), c, hits, s, std::min(lanes, count - s), first_pixel + size_t(s), out);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace candela
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace candela {
+
+HWY_EXPORT(ShadeGBufferLanes);
+HWY_EXPORT(CameraDirectionsLanes);
+
+void camera_directions_lanes(const Camera& camera, int count, PrimaryHitLanes& row) {
+  HWY_DYNAMIC_DISPATCH(CameraDirectionsLanes)(camera, count, row);
+}
+
+GBufferInstances::GBufferInstances(const Scene& scene)
+    : records(std::max<size_t>(scene.instances.size(), 1) * kFields, 0.0f),
+      prev_from_current(scene.instances.size(), mat4(1.0f)),
+      plain(scene.instances.size(), 0) {
+  for (size_t k = 0; k < scene.instances.size(); ++k) {
+    const Instance& inst = scene.instances[k];
+    const Mesh& mesh = scene.meshes[inst.mesh];
+    const Material& m = scene.materials[mesh.material];
+    if (inst.animated) prev_from_current[k] = inst.prev_transform * glm::inverse(inst.transform);
+    float* r = records.data() + k * kFields;
+    auto put = [&](int field, const float* values, int count) { std::copy(values, values + count, r + field); };
+    for (int c = 0; c < 4; ++c) put(kTransform + 3 * c, &inst.transform[c].x, 3);
+    const mat3 nm = normal_matrix(inst.transform);
+    for (int c = 0; c < 3; ++c) put(kNormalMatrix + 3 * c, &nm[c].x, 3);
+    for (int c = 0; c < 4; ++c) put(kPrevFromCurrent + 3 * c, &prev_from_current[k][c].x, 3);
+    put(kBaseColor, &m.base_color.x, 3);
+    r[kMetallic] = m.metallic;
+    r[kRoughness] = m.roughness;
+    r[kSpecular] = m.specular;
+    const vec3 f0 = dielectric_f0(m.ior, m.specular_color);
+    put(kSpecularF0, &f0.x, 3);
+    if (m.emissive()) put(kEmission, &m.emission.x, 3);
+    r[kMirrored] = glm::determinant(mat3(inst.transform)) < 0.0f;
+    r[kAnimated] = inst.animated;
+    r[kDoubleSided] = m.double_sided;
+    r[kHasNormals] = !mesh.normals.empty();
+    plain[k] = !m.base_color_tex.valid() && !m.metallic_roughness_tex.valid() && !m.specular_tex.valid() &&
+               !m.specular_color_tex.valid() && !m.normal_tex.valid() && !m.emissive_tex.valid();
+  }
+}
+
+void shade_gbuffer_lanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera,
+                         const vec3& environment, const PrimaryHitLanes& hits, int count, size_t first_pixel,
+                         GBuffer& out) {
+  HWY_DYNAMIC_DISPATCH(ShadeGBufferLanes)(instances, camera, prev_camera, environment, hits, count, first_pixel, out);
+}
+
+}  // namespace candela
+#endif  // HWY_ONCE
