@@ -4,13 +4,11 @@
 // engine/gbuffer.cpp write_pixel).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "engine/gbuffer_lanes.cpp"
-#include "hwy/foreach_target.h"  // IWYU pragma: keep
-#include "hwy/highway.h"
-// clang-format off
-#include "engine/lanes-inl.h"
-// clang-format on
 #include <cstring>
 
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+#include "engine/lanes-inl.h"
 #include "engine/gbuffer_lanes.h"
 #include "engine/surface.h"
 
@@ -25,7 +23,7 @@ using F = GBufferInstances::Field;
 
 // Per-frame constants of the kernel: the two cameras and the background, broadcast once.
 struct Cameras {
-  V3 eye, forward;                         // Camera::view_depth
+  V3 eye, forward;                                 // Camera::view_depth
   V3 prev_eye, prev_forward, prev_right, prev_up;  // Camera::project of the previous camera
   V prev_tan_x, prev_tan_y, prev_width, prev_height;
   V3 environment;
@@ -50,8 +48,8 @@ V3 interpolate(const V3& a, const V3& b, const V3& c, V w, V u, V v) {
 // vectors: neighbouring pixels see the same object), gathers otherwise.
 struct Records {
   const float* records;
-  VI base;                // lane's record offset (0 for misses)
-  const float* uniform;   // the hit lanes' common record, or null
+  VI base;               // lane's record offset (0 for misses)
+  const float* uniform;  // the hit lanes' common record, or null
   V operator()(D d, int k) const {
     return uniform ? hn::Set(d, uniform[k]) : hn::GatherIndex(d, records, hn::Add(base, hn::Set(DI(), k)));
   }
@@ -59,7 +57,8 @@ struct Records {
   // transform_point: row r of m * vec4(p, 1) as glm evaluates it, (m0 x + m1 y) + (m2 z + m3 * 1).
   V3 transform_point(D d, int k, const V3& p) const {
     auto row = [&](int r) {
-      const V m0 = (*this)(d, k + r), m1 = (*this)(d, k + 3 + r), m2 = (*this)(d, k + 6 + r), m3 = (*this)(d, k + 9 + r);
+      const V m0 = (*this)(d, k + r), m1 = (*this)(d, k + 3 + r), m2 = (*this)(d, k + 6 + r),
+              m3 = (*this)(d, k + 9 + r);
       return hn::Add(hn::Add(hn::Mul(m0, p.x), hn::Mul(m1, p.y)), hn::Add(hn::Mul(m2, p.z), m3));
     };
     return {row(0), row(1), row(2)};
@@ -147,7 +146,8 @@ void shade(D d, const float* records, const Cameras& c, const PrimaryHitLanes& h
   const M front = hn::Ge(dot(n_front, wo), zero);
   const V3 ng = select(front, n_front, neg(n_front));
   // surface_at: the interpolated vertex normal through the normal matrix, on the front side, then on wo's.
-  const V3 interpolated = normalize(d, r.transform_vector(d, F::kNormalMatrix, interpolate(vn[0], vn[1], vn[2], w, u, v)));
+  const V3 interpolated =
+      normalize(d, r.transform_vector(d, F::kNormalMatrix, interpolate(vn[0], vn[1], vn[2], w, u, v)));
   V3 ns = select(hn::Gt(r(d, F::kHasNormals), zero), interpolated, n_front);
   ns = select(is_finite(d, ns), ns, n_front);
   ns = select(hn::Lt(dot(ns, n_front), zero), neg(ns), ns);
@@ -188,13 +188,16 @@ void CameraDirectionsLanes(const Camera& camera, int count, PrimaryHitLanes& row
   const V two = hn::Set(d, 2.0f), one = hn::Set(d, 1.0f);
   const V width = hn::Set(d, float(camera.width())), height = hn::Set(d, float(camera.height()));
   const V tan_x = hn::Set(d, camera.tan_half_x()), tan_y = hn::Set(d, camera.tan_half_y());
-  const V3 forward = broadcast(d, camera.forward()), right = broadcast(d, camera.right()), up = broadcast(d, camera.up());
+  const V3 forward = broadcast(d, camera.forward()), right = broadcast(d, camera.right()),
+           up = broadcast(d, camera.up());
   for (int s = 0; s < count; s += int(hn::Lanes(d))) {
     const V a = hn::Mul(hn::Sub(hn::Div(hn::Mul(two, hn::Load(d, row.film[0] + s)), width), one), tan_x);
     const V b = hn::Mul(hn::Sub(hn::Div(hn::Mul(two, hn::Load(d, row.film[1] + s)), height), one), tan_y);
     auto axis = [&](V f, V r, V u) { return hn::Sub(hn::Add(f, hn::Mul(r, a)), hn::Mul(u, b)); };
-    store3(d, normalize(d, {axis(forward.x, right.x, up.x), axis(forward.y, right.y, up.y), axis(forward.z, right.z, up.z)}),
-           row.dir[0], row.dir[1], row.dir[2], s);
+    store3(
+        d,
+        normalize(d, {axis(forward.x, right.x, up.x), axis(forward.y, right.y, up.y), axis(forward.z, right.z, up.z)}),
+        row.dir[0], row.dir[1], row.dir[2], s);
   }
 }
 

@@ -17,26 +17,26 @@ namespace candela {
 // kFields floats that the kernel gathers by instance index, and the transforms the scalar path reads.
 struct GBufferInstances {
   enum Field : int {
-    kTransform = 0,          // mat4 columns 0..3, rows 0..2
-    kNormalMatrix = 12,      // cofactor matrix of the linear part, columns 0..2
-    kPrevFromCurrent = 21,   // this frame's world position -> last frame's (animated instances)
-    kBaseColor = 33,         // rgb
+    kTransform = 0,         // mat4 columns 0..3, rows 0..2
+    kNormalMatrix = 12,     // cofactor matrix of the linear part, columns 0..2
+    kPrevFromCurrent = 21,  // this frame's world position -> last frame's (animated instances)
+    kBaseColor = 33,        // rgb
     kMetallic = 36,
     kRoughness = 37,
     kSpecular = 38,
-    kSpecularF0 = 39,        // rgb, dielectric_f0 of the material
-    kEmission = 42,          // rgb; 0 unless the material emits
-    kMirrored = 45,          // 1: the transform flips handedness
-    kAnimated = 46,          // 1: motion vectors go through kPrevFromCurrent
-    kDoubleSided = 47,       // 1: emits on both sides
-    kHasNormals = 48,        // 1: the mesh has vertex normals
+    kSpecularF0 = 39,   // rgb, dielectric_f0 of the material
+    kEmission = 42,     // rgb; 0 unless the material emits
+    kMirrored = 45,     // 1: the transform flips handedness
+    kAnimated = 46,     // 1: motion vectors go through kPrevFromCurrent
+    kDoubleSided = 47,  // 1: emits on both sides
+    kHasNormals = 48,   // 1: the mesh has vertex normals
     kFields = 49,
   };
   // Reads the scene's instances, meshes and materials. O(instances).
   explicit GBufferInstances(const Scene& scene);
-  std::vector<float> records;            // kFields per instance (one zero record when there are none)
-  std::vector<mat4> prev_from_current;   // identity for static instances
-  std::vector<uint8_t> plain;            // 1: the material has no textures, the kernel's values are final
+  std::vector<float> records;           // kFields per instance (one zero record when there are none)
+  std::vector<mat4> prev_from_current;  // identity for static instances
+  std::vector<uint8_t> plain;           // 1: the material has no textures, the kernel's values are final
 };
 
 // Primary hits of one tile row in pixel order (slot s is pixel x0 + s) with the object-space corners and
