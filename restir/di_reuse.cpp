@@ -215,16 +215,18 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
 }
 
 // Combines every slot of a tile row (ReuseRow) into out[first + slot], with the targets evaluated in lanes
-// first where params.simd; `rng` gives each slot's random stream. Returns the rays traced.
+// first where params.simd; `rng` gives each slot's random stream. A slot without inputs keeps its reservoir
+// of `in`. Returns the rays traced.
 uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row, Rng* rng,
-                     size_t first, std::vector<DiReservoir>& out) {
+                     size_t first, const std::vector<DiReservoir>& in, std::vector<DiReservoir>& out) {
   const bool weights = params.bias != DiBiasCorrection::None;
   uint64_t traced =
       params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
   for (int s = 0; s < slots; ++s)
-    if (row.count[s] > 0)
-      out[first + size_t(s)] =
-          combine(view, row.inputs[s], row.count[s], params, params.simd ? &row.targets[s] : nullptr, rng[s], traced);
+    out[first + size_t(s)] =
+        row.count[s] > 0
+            ? combine(view, row.inputs[s], row.count[s], params, params.simd ? &row.targets[s] : nullptr, rng[s], traced)
+            : in[first + size_t(s)];
   return traced;
 }
 
@@ -246,9 +248,12 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
                        std::vector<int32_t>& history_pixel, RayCounter& rays) {
-  out = reservoirs;
   history_pixel.assign(g.size(), -1);
-  if (history.size() != g.size() || previous.surfaces.size() != g.size()) return;
+  if (history.size() != g.size() || previous.surfaces.size() != g.size()) {
+    out = reservoirs;
+    return;
+  }
+  out.resize(reservoirs.size());  // every pixel is written by its tile row below
   // Last frame's pixel under pixel i's surface point, or -1: reprojected with the motion vectors (which
   // start at the jittered film position), and only where that pixel's surface is similar.
   auto reprojected = [&](size_t i, int x, int y) -> int64_t {
@@ -294,7 +299,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
         batch.row.count[s] = 2;
         history_pixel[i] = int32_t(j);
       }
-      traced += combine_row(view, params, slots, batch.row, batch.rng, first, out);
+      traced += combine_row(view, params, slots, batch.row, batch.rng, first, reservoirs, out);
     }
     rays.add(traced);
   });
@@ -305,7 +310,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
                       std::vector<DiReservoir>& out, RayCounter& rays) {
   const std::vector<DiSurface>& surfaces = current.surfaces;
   const int width = current.width, height = current.height;
-  out = in;
+  out.resize(in.size());  // every pixel is written by its tile row below
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
   // Pairwise MIS with visibility asks every neighbour whether its own sample is visible from it: asked
   // here once per pixel (one shadow ray each, 16 at a time in pixel order) instead of once per pixel and
@@ -385,7 +390,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       for (int s = 0; s < slots; ++s) draw(first + size_t(s), tile.x0 + s, y, batch.rng[s], batch.drawn[s]);
       for (int s = 0; s < slots; ++s)
         select(first + size_t(s), batch.drawn[s], batch.row.count[s], batch.row.inputs[s]);
-      traced += combine_row(view, params, slots, batch.row, batch.rng, first, out);
+      traced += combine_row(view, params, slots, batch.row, batch.rng, first, in, out);
     }
     rays.add(traced);
   });
