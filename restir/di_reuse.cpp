@@ -223,10 +223,9 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
   uint64_t traced =
       params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
   for (int s = 0; s < slots; ++s)
-    out[first + size_t(s)] =
-        row.count[s] > 0
-            ? combine(view, row.inputs[s], row.count[s], params, params.simd ? &row.targets[s] : nullptr, rng[s], traced)
-            : in[first + size_t(s)];
+    out[first + size_t(s)] = row.count[s] > 0 ? combine(view, row.inputs[s], row.count[s], params,
+                                                        params.simd ? &row.targets[s] : nullptr, rng[s], traced)
+                                              : in[first + size_t(s)];
   return traced;
 }
 
