@@ -116,19 +116,29 @@ BsdfWoTerms Bsdf::wo_terms(const vec3& wo) const {
   return t;
 }
 
-bool Bsdf::sample(const vec3& wo_world, vec2 u, float u_lobe, BsdfSample& out) const {
-  vec3 wo = frame_.to_local(wo_world);
+bool sample_bsdf_direction(const Frame& frame, float alpha, const vec3& wo_world, vec2 u, float u_lobe,
+                           float p_specular, vec3& wi_world) {
+  vec3 wo = frame.to_local(wo_world);
   if (wo.z <= 0.0f) return false;
   vec3 wi;
-  if (u_lobe < specular_probability(albedo_.at(wo.z))) {
-    vec3 h = ggx_sample_visible_normal(wo, alpha_, u);
+  if (u_lobe < p_specular) {
+    vec3 h = ggx_sample_visible_normal(wo, alpha, u);
     wi = glm::reflect(-wo, h);
     if (wi.z <= 0.0f) return false;
   } else {
     wi = sample_cosine_hemisphere(u);
     if (wi.z <= 0.0f) return false;
   }
-  out.wi = frame_.to_world(wi);
+  wi_world = frame.to_world(wi);
+  return true;
+}
+
+bool Bsdf::sample(const vec3& wo_world, vec2 u, float u_lobe, BsdfSample& out) const {
+  // frame_.to_local(wo_world).z, the cosine sample_bsdf_direction tests.
+  const float cos_o = glm::dot(wo_world, frame_.n);
+  if (cos_o <= 0.0f ||
+      !sample_bsdf_direction(frame_, alpha_, wo_world, u, u_lobe, specular_probability(albedo_.at(cos_o)), out.wi))
+    return false;
   out.f = eval(wo_world, out.wi);
   out.pdf = pdf(wo_world, out.wi);
   return out.pdf > 0.0f;

@@ -90,6 +90,12 @@ class Bsdf {
   GgxAlbedoRow albedo_;           // a(mu), b(mu) at this roughness
 };
 
+// The direction Bsdf::sample draws at wo, without evaluating it, for a BSDF with shading frame `frame`
+// (Frame::from_normal of its normal) and GGX alpha: the single-scattering lobe's visible normals with
+// probability p_specular (BsdfWoTerms::p_specular), else the cosine lobe. False if there is none.
+bool sample_bsdf_direction(const Frame& frame, float alpha, const vec3& wo, vec2 u, float u_lobe, float p_specular,
+                           vec3& wi);
+
 // F0 of the glTF dielectric: ((ior - 1) / (ior + 1))^2 times the specular colour, at most 1
 // (KHR_materials_ior, KHR_materials_specular); ior 1.5 and white give 0.04.
 vec3 dielectric_f0(float ior, const vec3& specular_color);

@@ -13,9 +13,11 @@ void DiCandidateBatch::resize(int light_candidates, int bsdf_candidates) {
   light_uv.resize(k);
   chosen.resize(k);
   bsdf.resize(size_t(std::max(bsdf_candidates, 0)) * kLaneSlots);
+  directions.resize(size_t(std::max(bsdf_candidates, 0)));
 }
 
-uint64_t trace_bsdf_candidates(const SceneView& view, const DiParams& params, int slots, DiCandidateBatch& batch) {
+uint64_t trace_bsdf_candidates(const SceneView& view, const GBuffer& g, const DiParams& params, int slots,
+                               DiCandidateBatch& batch) {
   using Candidate = DiCandidateBatch::BsdfCandidate;
   auto answer = [&](Candidate* c, const RayPacket16& packet, int lane) {
     c->hit = view.tracer.packet_hit(packet, lane);
@@ -25,8 +27,8 @@ uint64_t trace_bsdf_candidates(const SceneView& view, const DiParams& params, in
     for (int s = 0; s < slots; ++s) {
       Candidate& c = batch.bsdf[size_t(k) * kLaneSlots + size_t(s)];
       if (c.sample.pdf <= 0.0f) continue;
-      const DiReceiver& r = batch.slot[s].receiver;
-      queue.add(view.tracer.spawn_ray(r.position, r.geometric_normal, c.sample.wi), &c);
+      const size_t i = batch.slot[s].pixel;  // the exact receiver's point and normal
+      queue.add(view.tracer.spawn_ray(g.position[i], g.geometric_normal[i], c.sample.wi), &c);
     }
   queue.finish();
   return queue.traced();

@@ -15,17 +15,19 @@ namespace candela {
 // context, and per light candidate k the drawn sample, its light-sampling density and resampling uniform,
 // beside the lanes the evaluation reads and writes.
 struct DiCandidateBatch {
-  SurfaceLanes surfaces;  // the slots' packed surfaces, from which the lanes' receivers are built
+  SurfaceLanes surfaces;             // the slots' packed surfaces, from which the lanes' receivers are built
+  ExactSurfaceLanes exact_surfaces;  // and their G-buffer surfaces, for the exact BSDFs' terms (params.simd)
   ReceiverLanes lanes;
   std::vector<CandidateLanes> planes;  // one per light candidate
   struct Slot {
     bool hit = false;
     size_t pixel = 0;
     Rng rng;
-    DiReceiver receiver;  // exact (BSDF sampling, densities, visibility)
+    DiReceiver receiver;  // exact (densities of BSDF candidates that hit a light, visibility), built by exact()
+                          // on first use where the lanes hold the exact BSDFs' terms
     DiReceiver target;    // packed (targets), built by target() on first use where the lanes evaluate the
                           // light candidates
-    bool target_built = false;
+    bool receiver_built = false, target_built = false;
     ShadingContext ctx;
   } slot[kLaneSlots];
   // The packed receiver of a slot, for the targets the lanes do not evaluate (BSDF candidates, punctual
@@ -33,6 +35,12 @@ struct DiCandidateBatch {
   const DiReceiver& target(const DiDomain& domain, int s) {
     if (!slot[s].target_built) slot[s].target = di_receiver(domain, slot[s].pixel), slot[s].target_built = true;
     return slot[s].target;
+  }
+  // The exact receiver of a slot (G-buffer g, eye and lights of `domain`).
+  const DiReceiver& exact(const GBuffer& g, const DiDomain& domain, int s) {
+    if (!slot[s].receiver_built)
+      slot[s].receiver = di_exact_receiver(g, domain.eye, domain.lights, slot[s].pixel), slot[s].receiver_built = true;
+    return slot[s].receiver;
   }
   // Light candidate k of a slot, at [k * kLaneSlots + slot]: the chosen light and the uniforms that place
   // the point on it (which, for a triangle light, planes[k] holds).
@@ -45,7 +53,8 @@ struct DiCandidateBatch {
     float u = 0.0f;
     Hit hit;
   };
-  std::vector<BsdfCandidate> bsdf;  // [k * kLaneSlots + slot]
+  std::vector<BsdfCandidate> bsdf;         // [k * kLaneSlots + slot]
+  std::vector<DirectionLanes> directions;  // per BSDF candidate, its directions' value and density (params.simd)
   // One slot's light choices while they are drawn: uniforms for the choice and for the point, the choices.
   std::vector<vec2> light_u, light_uv;
   std::vector<SampledLight> chosen;
@@ -67,20 +76,17 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
   DiCandidateBatch::Slot& b = batch.slot[slot];
   b.hit = g.hit(i);
   b.pixel = i;
-  b.target_built = false;
+  b.receiver_built = b.target_built = false;
   for (int k = 0; k < params.light_candidates; ++k) batch.planes[size_t(k)].clear(slot);
   batch.surfaces.set(slot, domain.surfaces[i]);
-  if (!b.hit) {
-    batch.lanes.exact.set(slot, BsdfWoTerms{});
-    return;
-  }
+  if (params.simd) batch.exact_surfaces.set(slot, g, i);  // the exact BSDF's terms are built in lanes
+  if (!b.hit) return;
   b.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
   b.ctx = tile ? tile->ctx : ShadingContext{g.position[i], g.shading_normal[i]};  // what the candidates' density is for
-  b.receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
-  if (params.simd)
-    batch.lanes.exact.set(slot, b.receiver.bsdf.wo_terms(b.receiver.wo));
-  else
-    batch.target(domain, slot);  // the scalar reference evaluates every candidate on it
+  if (!params.simd) {  // the scalar reference evaluates and samples everything on the two receivers
+    batch.exact(g, domain, slot);
+    batch.target(domain, slot);
+  }
   // Without a tile, the M_l lights in one call (the light tree shares its upper levels between them), each
   // candidate's random numbers drawn in the order one candidate at a time would draw them.
   if (!tile) {
@@ -126,24 +132,56 @@ inline float di_bsdf_area_pdf(const DiReceiver& receiver, const DiContribution& 
 void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBatch& batch);
 
 // Part 3 (per pixel): M_b BSDF directions sampled at the exact receiver (their rays are traced together
-// next, in packets).
-inline void draw_bsdf_candidates(const DiParams& params, int slot, DiCandidateBatch& batch) {
+// next, in packets). With params.simd only the directions: their values and densities come from the lanes
+// (part 3b).
+inline void draw_bsdf_candidates(const GBuffer& g, const DiParams& params, int slot, DiCandidateBatch& batch) {
   DiCandidateBatch::Slot& b = batch.slot[slot];
   for (int k = 0; k < params.bsdf_candidates; ++k) {
     DiCandidateBatch::BsdfCandidate& c = batch.bsdf[size_t(k) * kLaneSlots + size_t(slot)];
+    DirectionLanes* lanes = params.simd ? &batch.directions[size_t(k)] : nullptr;
     c.sample.pdf = 0.0f;
+    if (lanes) lanes->active[slot] = lanes->x[slot] = lanes->y[slot] = lanes->z[slot] = 0.0f;
     if (!b.hit) continue;
     vec2 ub(b.rng.next_float(), b.rng.next_float());
     float lobe = b.rng.next_float();
     c.u = b.rng.next_float();
+    if (lanes) {
+      // The exact receiver's shading normal, alpha and lobe probability and wo (the same as the packed
+      // receiver's: both come from the G-buffer's position) from the lanes.
+      const ReceiverLanes::BsdfPlanes& t = batch.lanes.exact;
+      const Frame frame = Frame::from_normal(vec3(t.nx[slot], t.ny[slot], t.nz[slot]));
+      const vec3 wo(batch.lanes.wox[slot], batch.lanes.woy[slot], batch.lanes.woz[slot]);
+      if (sample_bsdf_direction(frame, t.alpha[slot], wo, ub, lobe, t.p_specular[slot], c.sample.wi) &&
+          glm::dot(c.sample.wi, g.geometric_normal[b.pixel]) > 0.0f) {
+        lanes->x[slot] = c.sample.wi.x, lanes->y[slot] = c.sample.wi.y, lanes->z[slot] = c.sample.wi.z;
+        lanes->active[slot] = 1.0f;
+      }
+      continue;
+    }
     if (!b.receiver.bsdf.sample(b.receiver.wo, ub, lobe, c.sample) ||
         glm::dot(c.sample.wi, b.receiver.geometric_normal) <= 0.0f)
       c.sample.pdf = 0.0f;
   }
 }
 
+// Part 3b (params.simd): the BSDF candidates' values and densities (Bsdf::eval and Bsdf::pdf) in lanes; a
+// direction of density 0 gets no ray, as Bsdf::sample refuses it.
+inline void evaluate_bsdf_candidates(const DiParams& params, int slots, DiCandidateBatch& batch) {
+  for (int k = 0; k < params.bsdf_candidates; ++k) {
+    DirectionLanes& lanes = batch.directions[size_t(k)];
+    evaluate_direction_lanes(batch.lanes, lanes, slots);
+    for (int s = 0; s < slots; ++s) {
+      if (lanes.active[s] == 0.0f) continue;
+      BsdfSample& sample = batch.bsdf[size_t(k) * kLaneSlots + size_t(s)].sample;
+      sample.f = vec3(lanes.f[0][s], lanes.f[1][s], lanes.f[2][s]);
+      sample.pdf = lanes.pdf[s] > 0.0f ? lanes.pdf[s] : 0.0f;
+    }
+  }
+}
+
 // Part 4: the BSDF candidates' rays of `slots` slots, 16 at a time (rtcIntersect16). Returns the rays traced.
-uint64_t trace_bsdf_candidates(const SceneView& view, const DiParams& params, int slots, DiCandidateBatch& batch);
+uint64_t trace_bsdf_candidates(const SceneView& view, const GBuffer& g, const DiParams& params, int slots,
+                               DiCandidateBatch& batch);
 
 // Part 5 (per pixel): the light candidates resampled with their evaluated targets, then the BSDF
 // candidates with their hits, combined by the balance heuristic in area measure: each candidate x gets
@@ -152,8 +190,9 @@ uint64_t trace_bsdf_candidates(const SceneView& view, const DiParams& params, in
 // reaches the pixel only through the BSDF candidates: their plain estimate of it goes to `unsampled`.
 // With candidate_visibility, one shadow ray to the kept sample. Returns the rays traced.
 template <LightSampler S>
-uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiDomain& domain, const DiParams& params,
-                             int slot, DiCandidateBatch& batch, DiReservoir& r, vec3& unsampled) {
+uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
+                             const DiParams& params, int slot, DiCandidateBatch& batch, DiReservoir& r,
+                             vec3& unsampled) {
   DiCandidateBatch::Slot& b = batch.slot[slot];
   if (!b.hit) return 0;
   const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
@@ -169,7 +208,6 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiDo
     if (p_hat <= 0.0f) continue;
     r.update(s, p_hat / (M_l * batch.p_light[at] + M_b * p_bsdf), p_hat, batch.u[at]);
   }
-  const DiReceiver& receiver = b.receiver;
   for (int k = 0; k < params.bsdf_candidates; ++k) {
     const DiCandidateBatch::BsdfCandidate& candidate = batch.bsdf[size_t(k) * kLaneSlots + size_t(slot)];
     const BsdfSample& bs = candidate.sample;
@@ -181,7 +219,7 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiDo
                : view.scene.material_of(hit.instance).emissive()
                    ? surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -bs.wi).emission
                    : vec3(0.0f);
-      unsampled += bs.f * (std::abs(glm::dot(bs.wi, receiver.shading_normal)) / bs.pdf) * L / M_b;
+      unsampled += bs.f * (std::abs(glm::dot(bs.wi, g.shading_normal[b.pixel])) / bs.pdf) * L / M_b;
       continue;
     }
     DiSample s = di_sample_at(view.scene, view.lights, uint32_t(light), hit.barycentric);
@@ -189,12 +227,14 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiDo
     float p_hat = di_target(c);
     if (p_hat <= 0.0f) continue;
     float p_light = sampler.pmf(b.ctx, uint32_t(light)) * di_area_pdf(view.lights, uint32_t(light));
-    r.update(s, p_hat / (M_l * p_light + M_b * di_bsdf_area_pdf(receiver, c, params.bsdf_candidates)), p_hat,
-             candidate.u);
+    r.update(s,
+             p_hat / (M_l * p_light + M_b * di_bsdf_area_pdf(batch.exact(g, domain, slot), c, params.bsdf_candidates)),
+             p_hat, candidate.u);
   }
   r.M = M_l + M_b;
   r.finalize();
   if (!params.candidate_visibility || r.W <= 0.0f) return 0;
+  const DiReceiver& receiver = batch.exact(g, domain, slot);
   if (view.tracer.occluded(
           shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, di_contribution(receiver, r.y).light)))
     r.W = 0.0f;
@@ -204,7 +244,8 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const DiDo
 // Stage "di_candidates": reads the G-buffer (BSDF sampling and densities: the exact surface) and the
 // packed surfaces (targets), writes one reservoir per pixel and the light only BSDF candidates reach
 // (`unsampled`; zero without them). Cost per pixel: M_l light samples (or tile reads, with `tiles`) and
-// target evaluations (in lanes with params.simd), M_b BSDF samples, evaluations and rays (in packets),
+// target evaluations (in lanes with params.simd), M_b BSDF samples, evaluations (in lanes with params.simd)
+// and rays (in packets),
 // plus one shadow ray with candidate_visibility.
 template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
@@ -226,15 +267,17 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       }
       if (params.simd) {
         build_receiver_lanes(batch.surfaces, domain.eye, slots, batch.lanes);
+        build_exact_receiver_lanes(batch.exact_surfaces, domain.eye, slots, batch.lanes.exact);
         evaluate_candidate_lanes(batch.lanes, batch.planes.data(), params.light_candidates, slots,
                                  params.bsdf_candidates > 0);
       } else {
         evaluate_candidates_scalar(params, slots, batch);
       }
-      for (int s = 0; s < slots; ++s) draw_bsdf_candidates(params, s, batch);
-      traced += trace_bsdf_candidates(view, params, slots, batch);
+      for (int s = 0; s < slots; ++s) draw_bsdf_candidates(g, params, s, batch);
+      if (params.simd) evaluate_bsdf_candidates(params, slots, batch);
+      traced += trace_bsdf_candidates(view, g, params, slots, batch);
       for (int s = 0; s < slots; ++s)
-        traced += resample_candidates(view, sampler, domain, params, s, batch, out[row + s], unsampled[row + s]);
+        traced += resample_candidates(view, sampler, g, domain, params, s, batch, out[row + s], unsampled[row + s]);
     }
     rays.add(traced);
   });

@@ -5,6 +5,7 @@
 // so building it costs as much as evaluating it: in lanes, both are cheap. The kernel repeats the scalar
 // code's operations in order (oct_decode, glm::normalize, DiSurface::bsdf, the Bsdf constructor and
 // Bsdf::wo_terms), so it gives their bits (tests/test_target_lanes.cpp).
+#include "engine/gbuffer.h"
 #include "restir/di_surface.h"
 #include "restir/target_lanes.h"
 
@@ -28,5 +29,26 @@ struct SurfaceLanes {
 // (no hit) gets a receiver too: callers leave its candidates inactive. Cost per receiver: ~150 flops and 4 table
 // gathers, in lanes.
 void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out);
+
+// Exact G-buffer surfaces gathered into one plane per field (slot s: one pixel; set() transposes).
+struct ExactSurfaceLanes {
+  alignas(64) float px[kLaneSlots], py[kLaneSlots], pz[kLaneSlots];
+  alignas(64) float nx[kLaneSlots], ny[kLaneSlots], nz[kLaneSlots];  // shading normal
+  alignas(64) float base[3][kLaneSlots], specular_f0[3][kLaneSlots];
+  alignas(64) float roughness[kLaneSlots], metallic[kLaneSlots], specular[kLaneSlots];
+  void set(int slot, const GBuffer& g, size_t i) {
+    px[slot] = g.position[i].x, py[slot] = g.position[i].y, pz[slot] = g.position[i].z;
+    nx[slot] = g.shading_normal[i].x, ny[slot] = g.shading_normal[i].y, nz[slot] = g.shading_normal[i].z;
+    for (int c = 0; c < 3; ++c) base[c][slot] = g.albedo[i][c], specular_f0[c][slot] = g.specular_f0[i][c];
+    roughness[slot] = g.material[i].x, metallic[slot] = g.material[i].y, specular[slot] = g.material[i].z;
+  }
+};
+
+// Slots [0, slots) of `exact`: the wo terms of the exact receivers' BSDFs (di_exact_receiver's
+// GBuffer::bsdf and Bsdf::wo_terms, all of them: also g1_o and p_specular, which BSDF sampling reads) for
+// `surfaces` seen from `eye`. Slots whose surface is empty (no hit) get terms nobody may read. Cost per
+// receiver: ~250 flops and 6 table gathers, in lanes.
+void build_exact_receiver_lanes(const ExactSurfaceLanes& surfaces, const vec3& eye, int slots,
+                                ReceiverLanes::BsdfPlanes& exact);
 
 }  // namespace candela

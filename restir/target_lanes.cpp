@@ -26,7 +26,8 @@ V ggx_d_half_vector(D d, const V3& n, const V3& hv, V alpha) {
   return hn::IfThenElseZero(hn::And(hn::Gt(c, hn::Zero(d)), hn::Gt(den, hn::Zero(d))), value);
 }
 
-// Bsdf::eval(wo, wi) times |n.wi|, channel c returned in f[c], for the terms of one plane set.
+// Bsdf::eval(wo, wi), times |n.wi| with kTimesCosine, channel c returned in f[c], for the terms of one plane set.
+template <bool kTimesCosine>
 void eval_bsdf(D d, const ReceiverLanes::BsdfPlanes& t, int s, const V3& wo, const V3& wi, V f[3]) {
   const hn::RebindToSigned<D> di;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
@@ -56,7 +57,8 @@ void eval_bsdf(D d, const ReceiverLanes::BsdfPlanes& t, int s, const V3& wo, con
     const V layer = hn::Add(hn::Add(hn::Mul(hn::Load(d, t.d_f0[c] + s), hn::Sub(e_a, e_b)), hn::Mul(d_f90, e_b)),
                             hn::Mul(hn::Load(d, t.d_ms[c] + s), hn::Sub(one, e_a)));
     const V base = hn::Mul(hn::Load(d, t.base_o[c] + s), hn::Max(hn::Sub(one, layer), zero));
-    f[c] = hn::Mul(hn::IfThenElseZero(lit, hn::Add(hn::Add(single, multiple), base)), cos_n);
+    f[c] = hn::IfThenElseZero(lit, hn::Add(hn::Add(single, multiple), base));
+    if (kTimesCosine) f[c] = hn::Mul(f[c], cos_n);
   }
 }
 
@@ -92,7 +94,7 @@ void evaluate(D d, const ReceiverLanes& r, CandidateLanes& c, int s, bool with_b
   valid = hn::And(valid, hn::Gt(dot(wi, load3(d, r.gx, r.gy, r.gz, s)), zero));
   const V3 wo = load3(d, r.wox, r.woy, r.woz, s);
   V f[3];
-  eval_bsdf(d, r.target, s, wo, wi, f);
+  eval_bsdf<true>(d, r.target, s, wo, wi, f);
   const V geometry = hn::Div(hn::Abs(cos_l), hn::Mul(dist, dist));
   const V value[3] = {hn::Mul(hn::Mul(f[0], L[0]), geometry), hn::Mul(hn::Mul(f[1], L[1]), geometry),
                       hn::Mul(hn::Mul(f[2], L[2]), geometry)};
@@ -112,6 +114,18 @@ void EvaluateCandidateLanes(const ReceiverLanes& receivers, CandidateLanes* cand
     for (int s = 0; s < slots; s += lanes) evaluate(d, receivers, candidates[k], s, with_bsdf_pdf);
 }
 
+void EvaluateDirectionLanes(const ReceiverLanes& r, DirectionLanes& directions, int slots) {
+  const D d;
+  for (int s = 0; s < slots; s += int(hn::Lanes(d))) {
+    const V3 wo = load3(d, r.wox, r.woy, r.woz, s), wi = load3(d, directions.x, directions.y, directions.z, s);
+    const M active = hn::Gt(hn::Load(d, directions.active + s), hn::Zero(d));
+    V f[3];
+    eval_bsdf<false>(d, r.exact, s, wo, wi, f);
+    for (int c = 0; c < 3; ++c) hn::Store(hn::IfThenElseZero(active, f[c]), d, directions.f[c] + s);
+    hn::Store(hn::IfThenElseZero(active, bsdf_pdf(d, r.exact, s, wo, wi)), d, directions.pdf + s);
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace candela
 HWY_AFTER_NAMESPACE();
@@ -120,6 +134,11 @@ HWY_AFTER_NAMESPACE();
 namespace candela {
 
 HWY_EXPORT(EvaluateCandidateLanes);
+HWY_EXPORT(EvaluateDirectionLanes);
+
+void evaluate_direction_lanes(const ReceiverLanes& receivers, DirectionLanes& directions, int slots) {
+  HWY_DYNAMIC_DISPATCH(EvaluateDirectionLanes)(receivers, directions, slots);
+}
 
 static_assert(kLaneSlots % 16 == 0, "a batch is a whole number of the widest vectors");
 

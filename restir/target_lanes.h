@@ -54,11 +54,22 @@ struct CandidateLanes {
   LightPoint point(int slot) const;  // the point set() stored
 };
 
+// One direction per pixel of a batch, leaving its exact receiver (BSDF sampling's candidates): where `active` is
+// 1, the kernel writes the exact BSDF's value and sampling density there.
+struct DirectionLanes {
+  alignas(64) float x[kLaneSlots], y[kLaneSlots], z[kLaneSlots];
+  alignas(64) float active[kLaneSlots];
+  alignas(64) float f[3][kLaneSlots], pdf[kLaneSlots];
+};
+
 // The kernel: p_hat and (with_bsdf_pdf) the BSDF area density of every active candidate of slots
 // [0, slots) of each of `count` candidate planes; inactive slots get 0. Cost per candidate: ~100 flops
 // and 8 table gathers, in lanes.
 void evaluate_candidate_lanes(const ReceiverLanes& receivers, CandidateLanes* candidates, int count, int slots,
                               bool with_bsdf_pdf);
+// Bsdf::eval and Bsdf::pdf of the receivers' exact BSDFs at the directions of slots [0, slots); inactive slots
+// get 0. Cost per direction: ~60 flops and 4 table gathers, in lanes.
+void evaluate_direction_lanes(const ReceiverLanes& receivers, DirectionLanes& directions, int slots);
 // (engine/simd_targets.h names the instruction set it runs with and lets tests run every one.)
 
 }  // namespace candela

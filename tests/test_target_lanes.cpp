@@ -7,6 +7,8 @@
 
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
@@ -27,6 +29,43 @@ vec3 random_unit(Rng& rng) {
   do v = vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 2.0f - 1.0f;
   while (glm::dot(v, v) > 1.0f || glm::dot(v, v) < 1e-4f);
   return glm::normalize(v);
+}
+
+using Terms = std::vector<std::pair<std::string, std::pair<float, float>>>;
+
+// Expects each (lanes, scalar) pair of `terms`, and the albedo table rows, to hold the same bits. Returns how
+// many terms it compared.
+int expect_same_bits(const Terms& terms, int32_t row_lanes, int32_t row_scalar, const char* target, int batch, int s) {
+  for (const auto& [name, values] : terms)
+    EXPECT_TRUE(same_bits(values.first, values.second))
+        << target << ", " << name << ", batch " << batch << " slot " << s << ": lanes " << values.first << ", scalar "
+        << values.second;
+  EXPECT_EQ(row_lanes, row_scalar) << target << ", albedo row, batch " << batch << " slot " << s;
+  return int(terms.size());
+}
+
+// Every term of slot s of two BSDF plane sets, named: (lanes, scalar) pairs for same_bits. with_sampling adds the
+// two terms only BSDF sampling reads (G1 and the lobe probability), which the packed receivers leave 0.
+Terms bsdf_terms(const ReceiverLanes::BsdfPlanes& a, const ReceiverLanes::BsdfPlanes& b, int s, bool with_sampling) {
+  Terms terms = {{"nx", {a.nx[s], b.nx[s]}},          {"ny", {a.ny[s], b.ny[s]}},
+                 {"nz", {a.nz[s], b.nz[s]}},          {"cos_o", {a.cos_o[s], b.cos_o[s]}},
+                 {"alpha", {a.alpha[s], b.alpha[s]}}, {"s_o", {a.s_o[s], b.s_o[s]}},
+                 {"f90", {a.f90[s], b.f90[s]}},       {"ms_o", {a.ms_o[s], b.ms_o[s]}},
+                 {"d_f90", {a.d_f90[s], b.d_f90[s]}}, {"albedo_weight", {a.albedo_weight[s], b.albedo_weight[s]}}};
+  const char* rgb = "rgb";
+  for (int c = 0; c < 3; ++c) {
+    const std::string channel = std::string(".") + rgb[c];
+    terms.push_back({"f0" + channel, {a.f0[c][s], b.f0[c][s]}});
+    terms.push_back({"ms" + channel, {a.ms[c][s], b.ms[c][s]}});
+    terms.push_back({"base_o" + channel, {a.base_o[c][s], b.base_o[c][s]}});
+    terms.push_back({"d_f0" + channel, {a.d_f0[c][s], b.d_f0[c][s]}});
+    terms.push_back({"d_ms" + channel, {a.d_ms[c][s], b.d_ms[c][s]}});
+  }
+  if (with_sampling) {
+    terms.push_back({"g1_o", {a.g1_o[s], b.g1_o[s]}});
+    terms.push_back({"p_specular", {a.p_specular[s], b.p_specular[s]}});
+  }
+  return terms;
 }
 
 // Random receivers (any material: metallic, rough or smooth, specular factor, coloured F0; eye on either
@@ -139,53 +178,64 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
       build_receiver_lanes(*packed, eye, kLaneSlots, *lanes);
       for (int s = 0; s < kLaneSlots; ++s) {
         const ReceiverLanes::BsdfPlanes &a = lanes->target, &b = scalar->target;
-        const std::pair<const char*, std::pair<float, float>> fields[] = {
-            {"px", {lanes->px[s], scalar->px[s]}},
-            {"py", {lanes->py[s], scalar->py[s]}},
-            {"pz", {lanes->pz[s], scalar->pz[s]}},
-            {"gx", {lanes->gx[s], scalar->gx[s]}},
-            {"gy", {lanes->gy[s], scalar->gy[s]}},
-            {"gz", {lanes->gz[s], scalar->gz[s]}},
-            {"wox", {lanes->wox[s], scalar->wox[s]}},
-            {"woy", {lanes->woy[s], scalar->woy[s]}},
-            {"woz", {lanes->woz[s], scalar->woz[s]}},
-            {"nx", {a.nx[s], b.nx[s]}},
-            {"ny", {a.ny[s], b.ny[s]}},
-            {"nz", {a.nz[s], b.nz[s]}},
-            {"cos_o", {a.cos_o[s], b.cos_o[s]}},
-            {"alpha", {a.alpha[s], b.alpha[s]}},
-            {"s_o", {a.s_o[s], b.s_o[s]}},
-            {"f0.r", {a.f0[0][s], b.f0[0][s]}},
-            {"f0.g", {a.f0[1][s], b.f0[1][s]}},
-            {"f0.b", {a.f0[2][s], b.f0[2][s]}},
-            {"f90", {a.f90[s], b.f90[s]}},
-            {"ms.r", {a.ms[0][s], b.ms[0][s]}},
-            {"ms.g", {a.ms[1][s], b.ms[1][s]}},
-            {"ms.b", {a.ms[2][s], b.ms[2][s]}},
-            {"ms_o", {a.ms_o[s], b.ms_o[s]}},
-            {"base_o.r", {a.base_o[0][s], b.base_o[0][s]}},
-            {"base_o.g", {a.base_o[1][s], b.base_o[1][s]}},
-            {"base_o.b", {a.base_o[2][s], b.base_o[2][s]}},
-            {"d_f0", {a.d_f0[0][s], b.d_f0[0][s]}},
-            {"d_ms", {a.d_ms[0][s], b.d_ms[0][s]}},
-            {"d_f90", {a.d_f90[s], b.d_f90[s]}},
-            {"albedo_weight", {a.albedo_weight[s], b.albedo_weight[s]}}};
-        for (const auto& [name, values] : fields) {
-          ++compared;
-          EXPECT_TRUE(same_bits(values.first, values.second))
-              << target << ", " << name << ", batch " << batch << " slot " << s << ": lanes " << values.first
-              << ", scalar " << values.second;
-        }
-        for (int c = 1; c < 3; ++c)
-          EXPECT_TRUE(same_bits(a.d_f0[c][s], b.d_f0[c][s]) && same_bits(a.d_ms[c][s], b.d_ms[c][s]))
-              << target << " slot " << s;
-        EXPECT_EQ(a.albedo_row[s], b.albedo_row[s]) << target << ", albedo row, batch " << batch << " slot " << s;
+        Terms terms = {{"px", {lanes->px[s], scalar->px[s]}},    {"py", {lanes->py[s], scalar->py[s]}},
+                       {"pz", {lanes->pz[s], scalar->pz[s]}},    {"gx", {lanes->gx[s], scalar->gx[s]}},
+                       {"gy", {lanes->gy[s], scalar->gy[s]}},    {"gz", {lanes->gz[s], scalar->gz[s]}},
+                       {"wox", {lanes->wox[s], scalar->wox[s]}}, {"woy", {lanes->woy[s], scalar->woy[s]}},
+                       {"woz", {lanes->woz[s], scalar->woz[s]}}};
+        for (auto& term : bsdf_terms(a, b, s, false)) terms.push_back(term);
+        compared += expect_same_bits(terms, a.albedo_row[s], b.albedo_row[s], target, batch, s);
       }
     });
     if (::testing::Test::HasFailure()) break;
   }
   std::printf("  %d receiver terms compared (%d receivers lit from the eye's side) on %s\n", compared, lit,
               targets.c_str());
+  EXPECT_GT(lit, 100 * kLaneSlots / 4) << "too few receivers facing the eye to test the wo terms";
+}
+
+// The exact receivers' BSDF terms built in lanes from G-buffer surfaces (random positions, normals, colours,
+// roughness, metallic and specular factors with their extremes, coloured dielectric F0s, the eye on either
+// side) against di_exact_receiver and Bsdf::wo_terms, including the two terms only BSDF sampling reads (G1 and
+// the lobe probability): every plane holds the scalar bits (bound: 0 ulp).
+TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
+  const Scene scene = make_cornell_scene();
+  const LightList lights(scene);
+  Rng rng(778, 5);
+  auto factor = [&] {
+    const float u = rng.next_float();
+    return u < 0.1f ? 0.0f : u < 0.2f ? 1.0f : rng.next_float();
+  };
+  GBuffer g;
+  g.resize(kLaneSlots, 1);
+  auto lanes = std::make_unique<ReceiverLanes>(), scalar = std::make_unique<ReceiverLanes>();
+  auto surfaces = std::make_unique<ExactSurfaceLanes>();
+  int compared = 0, lit = 0;
+  for (int batch = 0; batch < 100; ++batch) {
+    const vec3 eye = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 6.0f;
+    for (int s = 0; s < kLaneSlots; ++s) {
+      g.position[size_t(s)] = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 4.0f;
+      g.shading_normal[size_t(s)] = random_unit(rng);
+      g.geometric_normal[size_t(s)] = random_unit(rng);
+      g.albedo[size_t(s)] = vec3(factor(), factor(), factor());
+      g.material[size_t(s)] = vec3(factor(), factor(), factor());
+      g.specular_f0[size_t(s)] = vec3(factor(), factor(), factor());
+      g.instance[size_t(s)] = 0;
+      surfaces->set(s, g, size_t(s));
+      const DiReceiver r = di_exact_receiver(g, eye, lights, size_t(s));
+      scalar->exact.set(s, r.bsdf.wo_terms(r.wo));
+      lit += scalar->exact.cos_o[s] > 0.0f;
+    }
+    for_each_simd_target([&](const char* target) {
+      build_exact_receiver_lanes(*surfaces, eye, kLaneSlots, lanes->exact);
+      const ReceiverLanes::BsdfPlanes &a = lanes->exact, &b = scalar->exact;
+      for (int s = 0; s < kLaneSlots; ++s) {
+        compared += expect_same_bits(bsdf_terms(a, b, s, true), a.albedo_row[s], b.albedo_row[s], target, batch, s);
+      }
+    });
+    if (::testing::Test::HasFailure()) break;
+  }
+  std::printf("  %d exact receiver terms compared (%d receivers lit from the eye's side)\n", compared, lit);
   EXPECT_GT(lit, 100 * kLaneSlots / 4) << "too few receivers facing the eye to test the wo terms";
 }
 
@@ -203,6 +253,7 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
                         Case{"city", "restir-di", "pairwise"}, Case{"manylights", "restir-di", "basic"},
                         Case{"cornell", "restir", "pairwise"}}) {
     std::vector<DiReservoir> result[2], gi[2];
+    Image image[2];
     for (int simd = 0; simd < 2; ++simd) {
       RenderSettings settings =
           testing::settings({{"width", 96}, {"height", 64}, {"method", c.method}, {"di_bias", c.bias}});
@@ -213,7 +264,15 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
       for (int frame = 0; frame < 3; ++frame) testing::render_checked(renderer, frame, 0.1f * float(frame), camera);
       result[simd] = renderer.di_reservoirs();
       gi[simd] = renderer.gi_reservoirs();
+      image[simd] = renderer.image();
     }
+    // The images too: the BSDF candidates' values and densities (in lanes) reach them through the light that
+    // only BSDF sampling finds (city's sky).
+    for (size_t i = 0; i < image[0].pixels.size(); ++i)
+      ASSERT_TRUE(same_bits(image[0].pixels[i].x, image[1].pixels[i].x) &&
+                  same_bits(image[0].pixels[i].y, image[1].pixels[i].y) &&
+                  same_bits(image[0].pixels[i].z, image[1].pixels[i].z))
+          << c.scene << " pixel " << i;
     for (auto* r : {result, gi}) {
       ASSERT_EQ(r[0].size(), r[1].size());
       int with_sample = 0;
