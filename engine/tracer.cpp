@@ -31,16 +31,13 @@ static RTCDevice shared_device() {
   return device;
 }
 
-void RayPacket16::set(int lane, const Ray& ray) {
+void RayPacket16::start(int lane, const vec3& origin, float tmin, float tmax) {
   RTCRay16& r = rayhit.ray;
-  r.org_x[lane] = ray.origin.x;
-  r.org_y[lane] = ray.origin.y;
-  r.org_z[lane] = ray.origin.z;
-  r.dir_x[lane] = ray.direction.x;
-  r.dir_y[lane] = ray.direction.y;
-  r.dir_z[lane] = ray.direction.z;
-  r.tnear[lane] = ray.tmin;
-  r.tfar[lane] = ray.tmax;
+  r.org_x[lane] = origin.x;
+  r.org_y[lane] = origin.y;
+  r.org_z[lane] = origin.z;
+  r.tnear[lane] = tmin;
+  r.tfar[lane] = tmax;
   r.time[lane] = 0.0f;
   r.mask[lane] = 0xffffffffu;
   r.id[lane] = unsigned(lane);
@@ -50,35 +47,28 @@ void RayPacket16::set(int lane, const Ray& ray) {
   valid[lane] = -1;
 }
 
+void RayPacket16::set(int lane, const Ray& ray) {
+  start(lane, ray.origin, ray.tmin, ray.tmax);
+  rayhit.ray.dir_x[lane] = ray.direction.x;
+  rayhit.ray.dir_y[lane] = ray.direction.y;
+  rayhit.ray.dir_z[lane] = ray.direction.z;
+}
+
 void RayPacket16::set_row4(int r, const vec3& origin, const float* dx, const float* dy, const float* dz, int n) {
-  RTCRay16& ray = rayhit.ray;
   const int first = 4 * r;
-  std::memcpy(ray.dir_x + first, dx, 4 * sizeof(float));
-  std::memcpy(ray.dir_y + first, dy, 4 * sizeof(float));
-  std::memcpy(ray.dir_z + first, dz, 4 * sizeof(float));
+  std::memcpy(rayhit.ray.dir_x + first, dx, 4 * sizeof(float));
+  std::memcpy(rayhit.ray.dir_y + first, dy, 4 * sizeof(float));
+  std::memcpy(rayhit.ray.dir_z + first, dz, 4 * sizeof(float));
   for (int lane = first; lane < first + 4; ++lane) {
-    ray.org_x[lane] = origin.x;
-    ray.org_y[lane] = origin.y;
-    ray.org_z[lane] = origin.z;
-    ray.tnear[lane] = 0.0f;
-    ray.tfar[lane] = kInfinity;
-    ray.time[lane] = 0.0f;
-    ray.mask[lane] = 0xffffffffu;
-    ray.id[lane] = unsigned(lane);
-    ray.flags[lane] = 0;
-    rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
-    rayhit.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
-    valid[lane] = lane < first + n ? -1 : 0;
+    start(lane, origin, 0.0f, kInfinity);
+    if (lane >= first + n) set_inactive(lane);
   }
 }
 
 void Tracer::packet_hits_row4(const RayPacket16& packet, int r, uint32_t* instance, uint32_t* prim, float* u,
                               float* v) const {
   const RTCHit16& hit = packet.rayhit.hit;
-  for (int k = 0, lane = 4 * r; k < 4; ++k, ++lane)
-    instance[k] = packet.valid[lane] && hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID
-                      ? scene_instance(hit.instID[0][lane], hit.geomID[lane])
-                      : kNoHit;
+  for (int k = 0; k < 4; ++k) instance[k] = lane_instance(packet, 4 * r + k);
   std::memcpy(prim, hit.primID + 4 * r, 4 * sizeof(uint32_t));
   std::memcpy(u, hit.u + 4 * r, 4 * sizeof(float));
   std::memcpy(v, hit.v + 4 * r, 4 * sizeof(float));
@@ -86,9 +76,9 @@ void Tracer::packet_hits_row4(const RayPacket16& packet, int r, uint32_t* instan
 
 Hit Tracer::packet_hit(const RayPacket16& packet, int lane) const {
   Hit h;
-  if (!packet.valid[lane] || packet.rayhit.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) return h;
+  h.instance = lane_instance(packet, lane);
+  if (h.instance == kNoHit) return h;
   h.t = packet.rayhit.ray.tfar[lane];
-  h.instance = scene_instance(packet.rayhit.hit.instID[0][lane], packet.rayhit.hit.geomID[lane]);
   h.prim = packet.rayhit.hit.primID[lane];
   h.barycentric = vec2(packet.rayhit.hit.u[lane], packet.rayhit.hit.v[lane]);
   return h;

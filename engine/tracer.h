@@ -46,6 +46,10 @@ struct alignas(64) RayPacket16 {
   // Lanes [4r, 4r + 4), row r of a 4x4 pixel block: rays from `origin` along (dx[k], dy[k], dz[k]) for k < n,
   // from tmin 0 to infinity; the other lanes of the row inactive.
   void set_row4(int r, const vec3& origin, const float* dx, const float* dy, const float* dz, int n);
+
+ private:
+  // Everything of an active lane but its direction: origin, [tmin, tmax], no hit yet.
+  void start(int lane, const vec3& origin, float tmin, float tmax);
 };
 
 // Sets flush-to-zero and denormals-are-zero for the calling thread (Embree's advice for speed).
@@ -81,6 +85,13 @@ class Tracer {
  private:
   vec3 offset_point(const vec3& p, const vec3& ng, const vec3& towards) const;
   RTCGeometry new_triangle_geometry(const Scene& scene, int mesh, const mat4* transform);
+  // Scene instance index of lane's hit after intersect16, kNoHit where it hit nothing or was inactive.
+  uint32_t lane_instance(const RayPacket16& packet, int lane) const {
+    const RTCHit16& hit = packet.rayhit.hit;
+    return packet.valid[lane] && hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID
+               ? scene_instance(hit.instID[0][lane], hit.geomID[lane])
+               : kNoHit;
+  }
   // Scene instance index of a hit, from Embree's top-level and geometry ids.
   uint32_t scene_instance(uint32_t top_id, uint32_t geom_id) const {
     return top_id == static_top_id_ ? static_instances_[geom_id] : top_instances_[top_id];
