@@ -116,10 +116,9 @@ BsdfWoTerms Bsdf::wo_terms(const vec3& wo) const {
   return t;
 }
 
-bool sample_bsdf_direction(const Frame& frame, float alpha, const vec3& wo_world, vec2 u, float u_lobe,
-                           float p_specular, vec3& wi_world) {
-  vec3 wo = frame.to_local(wo_world);
-  if (wo.z <= 0.0f) return false;
+// sample_bsdf_direction after its change of frame: wo in the frame's local coordinates, wo.z > 0.
+static bool sample_local_direction(const Frame& frame, float alpha, const vec3& wo, vec2 u, float u_lobe,
+                                   float p_specular, vec3& wi_world) {
   vec3 wi;
   if (u_lobe < p_specular) {
     vec3 h = ggx_sample_visible_normal(wo, alpha, u);
@@ -133,11 +132,16 @@ bool sample_bsdf_direction(const Frame& frame, float alpha, const vec3& wo_world
   return true;
 }
 
+bool sample_bsdf_direction(const Frame& frame, float alpha, const vec3& wo_world, vec2 u, float u_lobe,
+                           float p_specular, vec3& wi_world) {
+  vec3 wo = frame.to_local(wo_world);
+  return wo.z > 0.0f && sample_local_direction(frame, alpha, wo, u, u_lobe, p_specular, wi_world);
+}
+
 bool Bsdf::sample(const vec3& wo_world, vec2 u, float u_lobe, BsdfSample& out) const {
-  // frame_.to_local(wo_world).z, the cosine sample_bsdf_direction tests.
-  const float cos_o = glm::dot(wo_world, frame_.n);
-  if (cos_o <= 0.0f ||
-      !sample_bsdf_direction(frame_, alpha_, wo_world, u, u_lobe, specular_probability(albedo_.at(cos_o)), out.wi))
+  vec3 wo = frame_.to_local(wo_world);
+  if (wo.z <= 0.0f ||
+      !sample_local_direction(frame_, alpha_, wo, u, u_lobe, specular_probability(albedo_.at(wo.z)), out.wi))
     return false;
   out.f = eval(wo_world, out.wi);
   out.pdf = pdf(wo_world, out.wi);
