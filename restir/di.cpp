@@ -1,5 +1,7 @@
 #include "restir/di.h"
 
+#include "restir/receiver_lanes.h"
+
 namespace candela {
 
 DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
@@ -19,8 +21,8 @@ DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
 }
 
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
-              const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
-              Image& sum, RayCounter& rays, Counter& non_finite) {
+              const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, bool simd,
+              std::vector<DiVisibility>& visibility, Image& sum, RayCounter& rays, Counter& non_finite) {
   const bool reusing = reuse.max_age > 0 && reuse.history_pixel && reuse.previous &&
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
   visibility.assign(g.size(), DiVisibility{});
@@ -30,9 +32,18 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
     else
       non_finite.add(1);
   };
-  // Shadow rays go out 16 at a time in pixel order (rtcOccluded16): neighbouring pixels' rays towards
-  // nearby lights share much of their traversal.
+  // Per tile row: the samples' unshadowed contributions at the exact receivers, in lanes where the sample
+  // stores its point (with simd; else, and for punctual lights, di_contribution one pixel at a time), then
+  // each pixel's estimate, whose shadow rays go out 16 at a time in pixel order (rtcOccluded16):
+  // neighbouring pixels' rays towards nearby lights share much of their traversal.
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
+    struct Lanes {
+      ExactSurfaceLanes surfaces;
+      ReceiverLanes receivers;
+      CandidateLanes samples;
+      ContributionLanes contributions;
+    };
+    thread_local Lanes lanes;
     struct Pending {
       size_t pixel;
       vec3 L, lit;  // the pixel's light without its sample, and what the sample adds if visible
@@ -43,29 +54,50 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
       finish(p.pixel, visible ? p.L + p.lit : p.L);
     };
     auto queue = ray_queue16<Pending>(view.tracer, RayQuery::Occluded, answer);
-    for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        const size_t i = size_t(y) * size_t(g.width) + size_t(x);
+    const int slots = tile.x1 - tile.x0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
+      if (simd) {
+        for (int s = 0; s < slots; ++s) {
+          const size_t i = first + size_t(s);
+          const DiReservoir& r = reservoirs[i];
+          lanes.surfaces.set(s, g, i);
+          if (g.hit(i) && r.W > 0.0f && di_stored_point(view.lights, r.y))
+            lanes.samples.set(s, r.y.point);
+          else
+            lanes.samples.clear(s);
+        }
+        build_exact_receivers(lanes.surfaces, view.camera.position(), slots, lanes.receivers);
+        evaluate_exact_contribution_lanes(lanes.receivers, lanes.samples, slots, lanes.contributions);
+      }
+      for (int s = 0; s < slots; ++s) {
+        const size_t i = first + size_t(s);
         vec3 L = unsampled ? g.emission[i] + (*unsampled)[i] : vec3(0.0f);
         const DiReservoir& r = reservoirs[i];
         if (g.hit(i) && r.W > 0.0f) {
-          DiContribution c = di_contribution(di_exact_receiver(g, view.camera.position(), view.lights, i), r.y);
-          if (max_component(c.value) > 0.0f) {
+          const vec3 value =
+              simd && lanes.samples.active[s] > 0.0f
+                  ? vec3(lanes.contributions.value[0][s], lanes.contributions.value[1][s],
+                         lanes.contributions.value[2][s])
+                  : di_contribution(di_exact_receiver(g, view.camera.position(), view.lights, i), r.y).value;
+          if (max_component(value) > 0.0f) {
             DiVisibility& v = visibility[i];
             v = {r.y.light, r.y.uv, true, false, 0};
             int32_t j = reusing ? (*reuse.history_pixel)[i] : -1;
             const DiVisibility* old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
             if (!(old && old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv)) {
-              queue.add(shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], c.light), {i, L, c.value * r.W});
+              const LightSample light = di_light_sample(view.lights, g.position[i], r.y);
+              queue.add(shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], light), {i, L, value * r.W});
               continue;
             }
             v.visible = old->visible;
             v.age = uint8_t(old->age + 1);
-            if (v.visible) L += c.value * r.W;
+            if (v.visible) L += value * r.W;
           }
         }
         finish(i, L);
       }
+    }
     queue.finish();
     rays.add(queue.traced());
   });

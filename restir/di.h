@@ -105,11 +105,14 @@ inline DiLightCandidate di_light_candidate(const Scene& scene, const LightList& 
   return {di_resolve(scene, lights, chosen.index, uv), di_light_pdf(lights, chosen)};
 }
 
+// Whether sample s stores its point (a triangle light's or a surface point): punctual lights store none.
+inline bool di_stored_point(const LightList& lights, const DiSample& s) {
+  return s.light < lights.triangle_count() || s.light == kSurfacePointSample;
+}
 // The light sample that sample s gives at point p (direction, distance, its point's normal and radiance):
 // the stored point's, or for a punctual light the one `lights` places. A shadow ray needs nothing else.
 inline LightSample di_light_sample(const LightList& lights, const vec3& p, const DiSample& s) {
-  const bool stored_point = s.light < lights.triangle_count() || s.light == kSurfacePointSample;
-  return stored_point ? light_sample_towards(s.point, p) : lights.sample_punctual(s.light, p);
+  return di_stored_point(lights, s) ? light_sample_towards(s.point, p) : lights.sample_punctual(s.light, p);
 }
 
 // The shadow ray from a packed surface, of a frame whose lights are `lights`, to sample s placed by them.
@@ -165,9 +168,10 @@ struct DiVisibilityReuse {
 // emission seen and the unsampled light (ReSTIR GI passes none: emission seen is direct light); writes
 // each pixel's verdict to `visibility`; a pixel whose estimate is not finite adds nothing and is counted
 // in `non_finite`. One shadow ray per pixel with a sample (in packets of 16), except where a verdict is
-// reused.
+// reused. With `simd`, the exact receivers and contributions are evaluated in lanes (target_lanes.h; the
+// scalar path, the reference, gives the same bits).
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
-              const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, std::vector<DiVisibility>& visibility,
-              Image& sum, RayCounter& rays, Counter& non_finite);
+              const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, bool simd,
+              std::vector<DiVisibility>& visibility, Image& sum, RayCounter& rays, Counter& non_finite);
 
 }  // namespace candela

@@ -149,14 +149,21 @@ V clamp_to(D d, V x, float lo, float hi) {
 }
 
 // One vector of slots [s, s + lanes) of the exact receivers: the Bsdf constructor with a coloured dielectric
-// F0 (so the layer's terms are per channel), then Bsdf::wo_terms with ggx_lambda and specular_probability.
-void build_exact(D d, const ExactSurfaceLanes& in, const vec3& eye, int s, ReceiverLanes::BsdfPlanes& t) {
+// F0 (so the layer's terms are per channel), then Bsdf::wo_terms with ggx_lambda and specular_probability;
+// where `geometry` is given, also the receivers' position, geometric normal and wo into it.
+void build_exact(D d, const ExactSurfaceLanes& in, const vec3& eye, int s, ReceiverLanes::BsdfPlanes& t,
+                 ReceiverLanes* geometry) {
   const DI di;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   const V3 p = load3(d, in.px, in.py, in.pz, s), n = load3(d, in.nx, in.ny, in.nz, s);
   // di_exact_receiver: wo = normalize(eye - position).
   const V3 wo =
       normalize(d, {hn::Sub(hn::Set(d, eye.x), p.x), hn::Sub(hn::Set(d, eye.y), p.y), hn::Sub(hn::Set(d, eye.z), p.z)});
+  if (geometry) {
+    store3(d, p, geometry->px, geometry->py, geometry->pz, s);
+    store3(d, load3(d, in.gx, in.gy, in.gz, s), geometry->gx, geometry->gy, geometry->gz, s);
+    store3(d, wo, geometry->wox, geometry->woy, geometry->woz, s);
+  }
   const V base_color[3] = {hn::Load(d, in.base[0] + s), hn::Load(d, in.base[1] + s), hn::Load(d, in.base[2] + s)};
   const V roughness = hn::Load(d, in.roughness + s);
   // Bsdf::Bsdf: ggx_alpha, the albedo row of the roughness (GgxAlbedoRow) and its average.
@@ -229,7 +236,13 @@ void BuildExactReceiverLanes(const ExactSurfaceLanes& surfaces, const vec3& eye,
                              ReceiverLanes::BsdfPlanes& exact) {
   const D d;
   const int lanes = int(hn::Lanes(d));
-  for (int s = 0; s < slots; s += lanes) build_exact(d, surfaces, eye, s, exact);
+  for (int s = 0; s < slots; s += lanes) build_exact(d, surfaces, eye, s, exact, nullptr);
+}
+
+void BuildExactReceivers(const ExactSurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out) {
+  const D d;
+  const int lanes = int(hn::Lanes(d));
+  for (int s = 0; s < slots; s += lanes) build_exact(d, surfaces, eye, s, out.exact, &out);
 }
 
 void BuildReceiverLanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out) {
@@ -247,10 +260,15 @@ namespace candela {
 
 HWY_EXPORT(BuildReceiverLanes);
 HWY_EXPORT(BuildExactReceiverLanes);
+HWY_EXPORT(BuildExactReceivers);
 
 void build_exact_receiver_lanes(const ExactSurfaceLanes& surfaces, const vec3& eye, int slots,
                                 ReceiverLanes::BsdfPlanes& exact) {
   HWY_DYNAMIC_DISPATCH(BuildExactReceiverLanes)(surfaces, eye, slots, exact);
+}
+
+void build_exact_receivers(const ExactSurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out) {
+  HWY_DYNAMIC_DISPATCH(BuildExactReceivers)(surfaces, eye, slots, out);
 }
 
 void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out) {

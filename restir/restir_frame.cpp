@@ -68,7 +68,8 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
     std::swap(chain.visibility, chain.prev_visibility);
     DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr,
                                  &chain.prev_visibility};
-    di_shade(view, g, *result, unsampled, visibility, chain.visibility, sum, timer.rays(), timer.non_finite());
+    di_shade(view, g, *result, unsampled, visibility, reuse.simd, chain.visibility, sum, timer.rays(),
+             timer.non_finite());
     if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);
   }
   std::swap(chain.history, *result);

@@ -77,33 +77,50 @@ V bsdf_pdf(D d, const ReceiverLanes::BsdfPlanes& t, int s, const V3& wo, const V
 }
 
 // One vector of slots [s, s + lanes) of one candidate plane: light_sample_towards, then di_contribution's
-// value and its luminance, then (with_bsdf_pdf) the BSDF's density in area measure.
-void evaluate(D d, const ReceiverLanes& r, CandidateLanes& c, int s, bool with_bsdf_pdf) {
+// value with the BSDF planes `bsdf` of the receivers (where `valid`; its lanes hold garbage elsewhere).
+struct Unshadowed {
+  V3 wo, wi;
+  V cos_l, dist;
+  M valid;
+  V value[3];
+};
+Unshadowed unshadowed(D d, const ReceiverLanes& r, const ReceiverLanes::BsdfPlanes& bsdf, const CandidateLanes& c,
+                      int s) {
   const V zero = hn::Zero(d);
+  Unshadowed u;
   const V3 p = load3(d, r.px, r.py, r.pz, s), y = load3(d, c.x, c.y, c.z, s);
   const V3 delta{hn::Sub(y.x, p.x), hn::Sub(y.y, p.y), hn::Sub(y.z, p.z)};
-  const V dist2 = dot(delta, delta), dist = hn::Sqrt(dist2);
-  const V3 wi{hn::Div(delta.x, dist), hn::Div(delta.y, dist), hn::Div(delta.z, dist)};
+  const V dist2 = dot(delta, delta);
+  u.dist = hn::Sqrt(dist2);
+  u.wi = {hn::Div(delta.x, u.dist), hn::Div(delta.y, u.dist), hn::Div(delta.z, u.dist)};
   const V3 ny = load3(d, c.nx, c.ny, c.nz, s);
-  const V cos_l = dot(ny, wi);
+  u.cos_l = dot(ny, u.wi);
   const V L[3] = {hn::Load(d, c.radiance[0] + s), hn::Load(d, c.radiance[1] + s), hn::Load(d, c.radiance[2] + s)};
-  const M emits = hn::Or(hn::Gt(hn::Load(d, c.two_sided + s), zero), hn::Lt(cos_l, zero));
-  M valid = hn::And(hn::Gt(hn::Load(d, c.active + s), zero), hn::Gt(dist2, zero));
-  valid = hn::And(valid, hn::Gt(hn::Abs(cos_l), hn::Set(d, 1e-7f)));
-  valid = hn::And(valid, hn::And(emits, hn::Gt(hn::Max(L[0], hn::Max(L[1], L[2])), zero)));
-  valid = hn::And(valid, hn::Gt(dot(wi, load3(d, r.gx, r.gy, r.gz, s)), zero));
-  const V3 wo = load3(d, r.wox, r.woy, r.woz, s);
+  const M emits = hn::Or(hn::Gt(hn::Load(d, c.two_sided + s), zero), hn::Lt(u.cos_l, zero));
+  u.valid = hn::And(hn::Gt(hn::Load(d, c.active + s), zero), hn::Gt(dist2, zero));
+  u.valid = hn::And(u.valid, hn::Gt(hn::Abs(u.cos_l), hn::Set(d, 1e-7f)));
+  u.valid = hn::And(u.valid, hn::And(emits, hn::Gt(hn::Max(L[0], hn::Max(L[1], L[2])), zero)));
+  u.valid = hn::And(u.valid, hn::Gt(dot(u.wi, load3(d, r.gx, r.gy, r.gz, s)), zero));
+  u.wo = load3(d, r.wox, r.woy, r.woz, s);
   V f[3];
-  eval_bsdf<true>(d, r.target, s, wo, wi, f);
-  const V geometry = hn::Div(hn::Abs(cos_l), hn::Mul(dist, dist));
-  const V value[3] = {hn::Mul(hn::Mul(f[0], L[0]), geometry), hn::Mul(hn::Mul(f[1], L[1]), geometry),
-                      hn::Mul(hn::Mul(f[2], L[2]), geometry)};
-  const V p_hat = hn::Add(hn::Add(hn::Mul(hn::Set(d, 0.2126f), value[0]), hn::Mul(hn::Set(d, 0.7152f), value[1])),
-                          hn::Mul(hn::Set(d, 0.0722f), value[2]));
-  hn::Store(hn::IfThenElseZero(valid, p_hat), d, c.p_hat + s);
+  eval_bsdf<true>(d, bsdf, s, u.wo, u.wi, f);
+  const V geometry = hn::Div(hn::Abs(u.cos_l), hn::Mul(u.dist, u.dist));
+  for (int k = 0; k < 3; ++k) u.value[k] = hn::Mul(hn::Mul(f[k], L[k]), geometry);
+  return u;
+}
+
+// One vector of one candidate plane: the value with the target BSDF and its luminance (di_target), then
+// (with_bsdf_pdf) the exact BSDF's density in area measure.
+void evaluate(D d, const ReceiverLanes& r, CandidateLanes& c, int s, bool with_bsdf_pdf) {
+  const V zero = hn::Zero(d);
+  const Unshadowed u = unshadowed(d, r, r.target, c, s);
+  const V p_hat = hn::Add(hn::Add(hn::Mul(hn::Set(d, 0.2126f), u.value[0]), hn::Mul(hn::Set(d, 0.7152f), u.value[1])),
+                          hn::Mul(hn::Set(d, 0.0722f), u.value[2]));
+  hn::Store(hn::IfThenElseZero(u.valid, p_hat), d, c.p_hat + s);
   const V area_pdf =
-      with_bsdf_pdf ? hn::Div(hn::Mul(bsdf_pdf(d, r.exact, s, wo, wi), hn::Abs(cos_l)), hn::Mul(dist, dist)) : zero;
-  hn::Store(hn::IfThenElseZero(valid, area_pdf), d, c.bsdf_area_pdf + s);
+      with_bsdf_pdf ? hn::Div(hn::Mul(bsdf_pdf(d, r.exact, s, u.wo, u.wi), hn::Abs(u.cos_l)), hn::Mul(u.dist, u.dist))
+                    : zero;
+  hn::Store(hn::IfThenElseZero(u.valid, area_pdf), d, c.bsdf_area_pdf + s);
 }
 
 void EvaluateCandidateLanes(const ReceiverLanes& receivers, CandidateLanes* candidates, int count, int slots,
@@ -112,6 +129,15 @@ void EvaluateCandidateLanes(const ReceiverLanes& receivers, CandidateLanes* cand
   const int lanes = int(hn::Lanes(d));
   for (int k = 0; k < count; ++k)
     for (int s = 0; s < slots; s += lanes) evaluate(d, receivers, candidates[k], s, with_bsdf_pdf);
+}
+
+void EvaluateExactContributionLanes(const ReceiverLanes& receivers, const CandidateLanes& samples, int slots,
+                                    ContributionLanes& out) {
+  const D d;
+  for (int s = 0; s < slots; s += int(hn::Lanes(d))) {
+    const Unshadowed u = unshadowed(d, receivers, receivers.exact, samples, s);
+    for (int c = 0; c < 3; ++c) hn::Store(hn::IfThenElseZero(u.valid, u.value[c]), d, out.value[c] + s);
+  }
 }
 
 void EvaluateDirectionLanes(const ReceiverLanes& r, DirectionLanes& directions, int slots) {
@@ -135,6 +161,12 @@ namespace candela {
 
 HWY_EXPORT(EvaluateCandidateLanes);
 HWY_EXPORT(EvaluateDirectionLanes);
+HWY_EXPORT(EvaluateExactContributionLanes);
+
+void evaluate_exact_contribution_lanes(const ReceiverLanes& receivers, const CandidateLanes& samples, int slots,
+                                       ContributionLanes& out) {
+  HWY_DYNAMIC_DISPATCH(EvaluateExactContributionLanes)(receivers, samples, slots, out);
+}
 
 void evaluate_direction_lanes(const ReceiverLanes& receivers, DirectionLanes& directions, int slots) {
   HWY_DYNAMIC_DISPATCH(EvaluateDirectionLanes)(receivers, directions, slots);

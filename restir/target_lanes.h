@@ -62,6 +62,11 @@ struct DirectionLanes {
   alignas(64) float f[3][kLaneSlots], pdf[kLaneSlots];
 };
 
+// The unshadowed contribution of one sample per pixel of a batch (di_contribution's value), per channel.
+struct ContributionLanes {
+  alignas(64) float value[3][kLaneSlots];
+};
+
 // The kernel: p_hat and (with_bsdf_pdf) the BSDF area density of every active candidate of slots
 // [0, slots) of each of `count` candidate planes; inactive slots get 0. Cost per candidate: ~100 flops
 // and 8 table gathers, in lanes.
@@ -70,6 +75,11 @@ void evaluate_candidate_lanes(const ReceiverLanes& receivers, CandidateLanes* ca
 // Bsdf::eval and Bsdf::pdf of the receivers' exact BSDFs at the directions of slots [0, slots); inactive slots
 // get 0. Cost per direction: ~60 flops and 4 table gathers, in lanes.
 void evaluate_direction_lanes(const ReceiverLanes& receivers, DirectionLanes& directions, int slots);
+// di_contribution's value at the receivers' exact BSDFs (their position, geometric normal, wo and exact planes)
+// of the active points of slots [0, slots) of `samples`; inactive slots get 0. The final shading. Cost per
+// sample: ~80 flops and 4 table gathers, in lanes.
+void evaluate_exact_contribution_lanes(const ReceiverLanes& receivers, const CandidateLanes& samples, int slots,
+                                       ContributionLanes& out);
 // (engine/simd_targets.h names the instruction set it runs with and lets tests run every one.)
 
 }  // namespace candela

@@ -197,7 +197,9 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
 // The exact receivers' BSDF terms built in lanes from G-buffer surfaces (random positions, normals, colours,
 // roughness, metallic and specular factors with their extremes, coloured dielectric F0s, the eye on either
 // side) against di_exact_receiver and Bsdf::wo_terms, including the two terms only BSDF sampling reads (G1 and
-// the lobe probability): every plane holds the scalar bits (bound: 0 ulp).
+// the lobe probability), and the whole receivers of the final shading (build_exact_receivers) with their
+// contributions at random light points (evaluate_exact_contribution_lanes against di_contribution): every
+// plane and value holds the scalar bits (bound: 0 ulp).
 TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
   const Scene scene = make_cornell_scene();
   const LightList lights(scene);
@@ -209,8 +211,12 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
   GBuffer g;
   g.resize(kLaneSlots, 1);
   auto lanes = std::make_unique<ReceiverLanes>(), scalar = std::make_unique<ReceiverLanes>();
+  auto shading = std::make_unique<ReceiverLanes>();
   auto surfaces = std::make_unique<ExactSurfaceLanes>();
-  int compared = 0, lit = 0;
+  auto points = std::make_unique<CandidateLanes>();
+  auto contributions = std::make_unique<ContributionLanes>();
+  std::vector<DiReceiver> receivers(kLaneSlots);
+  int compared = 0, lit = 0, contributing = 0;
   for (int batch = 0; batch < 100; ++batch) {
     const vec3 eye = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 6.0f;
     for (int s = 0; s < kLaneSlots; ++s) {
@@ -222,21 +228,50 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
       g.specular_f0[size_t(s)] = vec3(factor(), factor(), factor());
       g.instance[size_t(s)] = 0;
       surfaces->set(s, g, size_t(s));
-      const DiReceiver r = di_exact_receiver(g, eye, lights, size_t(s));
+      const DiReceiver& r = receivers[size_t(s)] = di_exact_receiver(g, eye, lights, size_t(s));
       scalar->exact.set(s, r.bsdf.wo_terms(r.wo));
       lit += scalar->exact.cos_o[s] > 0.0f;
+      // A light point mostly in front of the surface (one- or two-sided); some inactive.
+      const vec3 ng = g.geometric_normal[size_t(s)];
+      LightPoint point{g.position[size_t(s)] + (random_unit(rng) + ng) * (0.1f + 2.0f * rng.next_float()),
+                       random_unit(rng), vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 5.0f,
+                       rng.next_float() < 0.5f};
+      if (rng.next_float() < 0.1f)
+        points->clear(s);
+      else
+        points->set(s, point);
     }
     for_each_simd_target([&](const char* target) {
       build_exact_receiver_lanes(*surfaces, eye, kLaneSlots, lanes->exact);
+      build_exact_receivers(*surfaces, eye, kLaneSlots, *shading);
+      evaluate_exact_contribution_lanes(*shading, *points, kLaneSlots, *contributions);
       const ReceiverLanes::BsdfPlanes &a = lanes->exact, &b = scalar->exact;
       for (int s = 0; s < kLaneSlots; ++s) {
         compared += expect_same_bits(bsdf_terms(a, b, s, true), a.albedo_row[s], b.albedo_row[s], target, batch, s);
+        const DiReceiver& r = receivers[size_t(s)];
+        Terms terms = bsdf_terms(shading->exact, b, s, true);
+        const vec3 value = points->active[s] > 0.0f
+                               ? di_contribution(r, DiSample{0, vec2(0.0f), points->point(s), 0}).value
+                               : vec3(0.0f);
+        contributing += max_component(value) > 0.0f;
+        const float* position[3] = {shading->px, shading->py, shading->pz};
+        const float* normal[3] = {shading->gx, shading->gy, shading->gz};
+        const float* wo[3] = {shading->wox, shading->woy, shading->woz};
+        for (int c = 0; c < 3; ++c) {
+          terms.push_back({"position", {position[c][s], r.position[c]}});
+          terms.push_back({"geometric normal", {normal[c][s], r.geometric_normal[c]}});
+          terms.push_back({"wo", {wo[c][s], r.wo[c]}});
+          terms.push_back({"contribution", {contributions->value[c][s], value[c]}});
+        }
+        compared += expect_same_bits(terms, shading->exact.albedo_row[s], b.albedo_row[s], target, batch, s);
       }
     });
     if (::testing::Test::HasFailure()) break;
   }
-  std::printf("  %d exact receiver terms compared (%d receivers lit from the eye's side)\n", compared, lit);
+  std::printf("  %d exact receiver terms compared (%d receivers lit from the eye's side, %d contributions > 0)\n",
+              compared, lit, contributing);
   EXPECT_GT(lit, 100 * kLaneSlots / 4) << "too few receivers facing the eye to test the wo terms";
+  EXPECT_GT(contributing, 100 * kLaneSlots / 8) << "too few lit light points to test the contributions";
 }
 
 // The whole chain on rendered frames: the reservoirs after 3 frames of candidates and reuse are the same
