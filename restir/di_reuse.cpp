@@ -1,6 +1,7 @@
 #include "restir/di_reuse.h"
 
 #include "engine/parallel.h"
+#include "restir/combine_lanes.h"
 #include "restir/reuse_targets.h"
 
 namespace candela {
@@ -164,14 +165,17 @@ float mis_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets
   return 0.0f;
 }
 
-// Input k's sample as placed for the combining pixel (input 0): re-placed only where input 0's frame
-// placed the lights differently (moving lights, temporal reuse).
-DiSample placed_for_combiner(const SceneView& view, const DiReuseInput& in, const LightList* here_lights) {
+// Input k's sample as placed for the combining pixel (input 0), into `here`: re-placed only where input 0's
+// frame placed the lights differently (moving lights, temporal reuse). (Written in place: returned by value,
+// the copy stalled on store forwarding in the profile.)
+void place_for_combiner(const SceneView& view, const DiReuseInput& in, const LightList* here_lights, DiSample& here) {
   const DiSample& own = in.reservoir->y;
-  if (&in.domain->lights == here_lights || own.light == kSurfacePointSample) return own;
-  DiSample here = di_resolve(view.scene, *here_lights, own.light, own.uv);
+  if (&in.domain->lights == here_lights || own.light == kSurfacePointSample) {
+    here = own;
+    return;
+  }
+  here = di_resolve(view.scene, *here_lights, own.light, own.uv);
   here.age = own.age;
-  return here;
 }
 
 // |J| of moving a surface-point sample's reconnection from `own` to `here` (Ouyang et al. 2021, eq. 11):
@@ -204,7 +208,8 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
     if (k > 0 && own.light == kSurfacePointSample && params.max_jacobian > 0.0f &&
         reconnection_jacobian(own.point, here_position, in.domain->surfaces[in.pixel].position) > params.max_jacobian)
       continue;
-    const DiSample here = placed_for_combiner(view, in, here_lights);
+    DiSample here;
+    place_for_combiner(view, in, here_lights, here);
     const PlacedSample y{own, &in.domain->lights, here, here_lights};
     float p_hat_here = k == 0 ? in.reservoir->p_hat_y : targets.at(view, 0, k, y);
     float m = mis_weight(view, inputs, targets, count, k, k, y, p_hat_here, params, rays);
@@ -214,18 +219,72 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
   return out;
 }
 
+// Whether slot s of a row can combine in lanes: every target its pairwise weights read was evaluated
+// beforehand (not so for punctual lights' samples).
+bool targets_known(const ReuseRow& row, int s) {
+  const DiReuseInput* in = row.inputs[s];
+  const LaneTargets& t = row.targets[s];
+  for (int k = 1; k < row.count[s]; ++k) {
+    if (in[k].reservoir->W > 0.0f && !(t.known_at >> k & 1u)) return false;
+    if (in[0].reservoir->W > 0.0f && !(t.known_of >> k & 1u)) return false;
+  }
+  return true;
+}
+
+// Slot s of a row into the combination lanes, with its inputs' uniforms drawn from `rng` in combine's order.
+void gather_combination(const ReuseRow& row, int s, Rng& rng, CombineLanes& lanes) {
+  const DiReuseInput* in = row.inputs[s];
+  const LaneTargets& t = row.targets[s];
+  lanes.count[s] = float(row.count[s]);
+  for (int k = 0; k < row.count[s]; ++k) {
+    lanes.u[k][s] = rng.next_float();
+    lanes.M[k][s] = in[k].M;
+    lanes.W[k][s] = in[k].reservoir->W;
+    lanes.own[k][s] = in[k].reservoir->p_hat_y;
+    lanes.at[k][s] = t.at_combiner[k];
+    lanes.of[k][s] = t.of_combiner[k];
+  }
+}
+
 // Combines every slot of a tile row (ReuseRow) into out[first + slot], with the targets evaluated in lanes
-// first where params.simd; `rng` gives each slot's random stream. A slot without inputs keeps its reservoir
-// of `in`. Returns the rays traced.
+// first where params.simd, and with pairwise MIS without visibility the combinations too (combine_lanes.h;
+// slots whose targets are not all known combine one at a time); `rng` gives each slot's random stream. A
+// slot without inputs keeps its reservoir of `in`. Returns the rays traced.
 uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row, Rng* rng,
                      size_t first, const std::vector<DiReservoir>& in, std::vector<DiReservoir>& out) {
   const bool weights = params.bias != DiBiasCorrection::None;
   uint64_t traced =
       params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
-  for (int s = 0; s < slots; ++s)
-    out[first + size_t(s)] = row.count[s] > 0 ? combine(view, row.inputs[s], row.count[s], params,
-                                                        params.simd ? &row.targets[s] : nullptr, rng[s], traced)
-                                              : in[first + size_t(s)];
+  thread_local CombineLanes lanes;
+  bool in_lanes[kLaneSlots] = {};
+  if (params.simd && params.bias == DiBiasCorrection::Pairwise && !params.mis_visibility &&
+      params.max_jacobian <= 0.0f) {
+    int max_count = 0;
+    for (int s = 0; s < slots; ++s) {
+      in_lanes[s] = row.count[s] > 0 && targets_known(row, s);
+      if (in_lanes[s])
+        gather_combination(row, s, rng[s], lanes), max_count = std::max(max_count, row.count[s]);
+      else
+        lanes.count[s] = 0.0f;
+    }
+    if (max_count > 0) combine_pairwise_lanes(lanes, slots, max_count);
+  }
+  for (int s = 0; s < slots; ++s) {
+    DiReservoir& r = out[first + size_t(s)];
+    if (row.count[s] == 0) {
+      r = in[first + size_t(s)];
+    } else if (!in_lanes[s]) {
+      r = combine(view, row.inputs[s], row.count[s], params, params.simd ? &row.targets[s] : nullptr, rng[s], traced);
+    } else {
+      // The kept input's sample, placed for the combining pixel, with the lanes' sums.
+      static const DiSample kNone{};
+      if (const int k = int(lanes.chosen[s]); k >= 0)
+        place_for_combiner(view, row.inputs[s][k], &row.inputs[s][0].domain->lights, r.y);
+      else
+        r.y = kNone;
+      r.p_hat_y = lanes.p_hat[s], r.w_sum = lanes.w_sum[s], r.M = lanes.M_sum[s], r.W = lanes.W_out[s];
+    }
+  }
   return traced;
 }
 
@@ -235,7 +294,8 @@ void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count
                     const DiReuseParams& params, float* weights) {
   InputTargets targets(inputs, count, nullptr);
   const LightList* here_lights = &inputs[0].domain->lights;
-  const DiSample here = placed_for_combiner(view, inputs[source], here_lights);
+  DiSample here;
+  place_for_combiner(view, inputs[source], here_lights, here);
   const PlacedSample y{inputs[source].reservoir->y, &inputs[source].domain->lights, here, here_lights};
   const float p_hat_here = source == 0 ? inputs[0].reservoir->p_hat_y : targets.at(view, 0, source, y);
   uint64_t rays = 0;
