@@ -8,6 +8,27 @@ namespace candela {
 
 namespace {
 
+// Spatial reuse's neighbour offsets in the unit disk: the R2 sequence (Roberts 2018, "The Unreasonable
+// Effectiveness of Quasirandom Sequences": frac(0.5 + n (1/g, 1/g^2)), g the plastic number) over the square,
+// kept where it falls in the disk. A pixel reads consecutive entries from a random start (the neighbour
+// offset buffer of RTXDI's spatial resampling): every entry is uniform in the disk and consecutive ones are
+// spread apart. Measured against independent rejection-sampled points, 8 seeds of frame 16 (docs/restir.md,
+// "Neighbour offsets"): relMSE no worse on manylights, city and occluded_room, spatial reuse ~0.85x the time.
+constexpr uint32_t kOffsetCount = 1024;
+const std::vector<vec2>& neighbour_offsets() {
+  static const std::vector<vec2> offsets = [] {
+    std::vector<vec2> t;
+    const double g = 1.32471795724474602596, a1 = 1.0 / g, a2 = 1.0 / (g * g);
+    for (int n = 0; t.size() < kOffsetCount; ++n) {
+      const vec2 u(float(std::fmod(0.5 + a1 * n, 1.0)) * 2.0f - 1.0f,
+                   float(std::fmod(0.5 + a2 * n, 1.0)) * 2.0f - 1.0f);
+      if (glm::dot(u, u) <= 1.0f) t.push_back(u);
+    }
+    return t;
+  }();
+  return offsets;
+}
+
 // Whether surface b may share samples with surface a (shading normal a_n): close in depth and orientation.
 bool similar(const DiSurface& a, const vec3& a_n, const DiSurface& b, const DiReuseParams& p) {
   if (!b.hit() || std::abs(a.depth - b.depth) > p.depth_tolerance * a.depth) return false;
@@ -392,8 +413,9 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       rays.add(queue.traced());
     });
   }
-  // Neighbours: uniform points in the disk of the given radius, by rejection from the square (no
-  // trigonometry), drawn with the pixel's random stream, and their surfaces and reservoirs prefetched.
+  // Neighbours: consecutive offsets of the table from a start drawn with the pixel's random stream (one
+  // number instead of ~2.5 per neighbour and no rejection loop), scaled by the radius, and their surfaces and
+  // reservoirs prefetched.
   struct Drawn {
     bool active = false;  // the pixel takes part in reuse (a surface, rough enough)
     int count = 0;
@@ -407,10 +429,10 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, kMaxReuseInputs - 1);
     rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
+    const std::vector<vec2>& offsets = neighbour_offsets();
+    const uint32_t start = rng.next_u32();
     for (int k = 1; k < max_inputs; ++k) {
-      vec2 u;
-      do u = vec2(rng.next_float(), rng.next_float()) * 2.0f - 1.0f;
-      while (glm::dot(u, u) > 1.0f);
+      const vec2 u = offsets[(start + uint32_t(k)) % kOffsetCount];
       int nx = x + round_nearest(params.spatial_radius * u.x), ny = y + round_nearest(params.spatial_radius * u.y);
       if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
       size_t j = size_t(ny) * width + nx;
