@@ -55,7 +55,11 @@ PowerLightSampler::PowerLightSampler(const LightList& lights) {
 SampledLight PowerLightSampler::sample(const ShadingContext&, vec2 u) const {
   if (bins_.empty()) return {};
   uint32_t bin = std::min(uint32_t(double(u.x) * bins_.size()), uint32_t(bins_.size() - 1));
-  uint32_t index = u.y < bins_[bin].threshold ? bin : bins_[bin].alias;
+  // The bin or its alias chosen without a branch: the choice is a coin flip per sample, and the mispredicted
+  // branch cost about half of a sample in the profile.
+  const Bin& b = bins_[bin];
+  const uint32_t keep = 0u - uint32_t(u.y < b.threshold);
+  const uint32_t index = (bin & keep) | (b.alias & ~keep);
   return {index, pmf_[index]};
 }
 
