@@ -8,6 +8,7 @@
 #include "restir/di.h"
 #include "restir/light_tiles.h"
 #include "restir/receiver_lanes.h"
+#include "restir/resample_lanes.h"
 
 namespace candela {
 
@@ -186,17 +187,28 @@ uint64_t trace_bsdf_candidates(const SceneView& view, const GBuffer& g, const Di
 // Part 5 (per pixel): the light candidates resampled with their evaluated targets, then the BSDF
 // candidates with their hits, combined by the balance heuristic in area measure: each candidate x gets
 // w = p_hat(x) / (M_l p_light(x) + M_b p_bsdf(x)) (Talbot et al. 2005; Bitterli et al. 2020, sec. 3).
-// Light no light technique can sample (the environment, emitters below the light list's threshold)
-// reaches the pixel only through the BSDF candidates: their plain estimate of it goes to `unsampled`.
-// With candidate_visibility, one shadow ray to the kept sample. Returns the rays traced.
+// The light candidates' stream comes from `lanes` (resample_light_candidates_lanes, or null) unless the
+// pixel drew a punctual light, whose target the lanes do not have. Light no light technique can sample
+// (the environment, emitters below the light list's threshold) reaches the pixel only through the BSDF
+// candidates: their plain estimate of it goes to `unsampled`. With candidate_visibility, one shadow ray to
+// the kept sample. Returns the rays traced.
 template <LightSampler S>
 uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                             const DiParams& params, int slot, DiCandidateBatch& batch, DiReservoir& r,
-                             vec3& unsampled) {
+                             const DiParams& params, int slot, const StreamLanes* lanes, DiCandidateBatch& batch,
+                             DiReservoir& r, vec3& unsampled) {
   DiCandidateBatch::Slot& b = batch.slot[slot];
   if (!b.hit) return 0;
   const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
-  for (int k = 0; k < params.light_candidates; ++k) {
+  for (int k = 0; lanes && k < params.light_candidates; ++k) {
+    const size_t at = size_t(k) * kLaneSlots + size_t(slot);
+    if (batch.p_light[at] > 0.0f && batch.light[at] >= view.lights.triangle_count()) lanes = nullptr;
+  }
+  if (lanes) {
+    r.w_sum = lanes->w_sum[slot];
+    if (const int k = int(lanes->chosen[slot]); k >= 0) r.y = batch.candidate(view.lights, k, slot);
+    r.p_hat_y = lanes->p_hat[slot];
+  }
+  for (int k = 0; !lanes && k < params.light_candidates; ++k) {
     const size_t at = size_t(k) * kLaneSlots + size_t(slot);
     if (batch.p_light[at] <= 0.0f) continue;
     const DiSample s = batch.candidate(view.lights, k, slot);
@@ -276,8 +288,14 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       for (int s = 0; s < slots; ++s) draw_bsdf_candidates(g, params, s, batch);
       if (params.simd) evaluate_bsdf_candidates(params, slots, batch);
       traced += trace_bsdf_candidates(view, g, params, slots, batch);
+      thread_local StreamLanes streams;
+      if (params.simd)
+        resample_light_candidates_lanes(batch.planes.data(), batch.p_light.data(), batch.u.data(),
+                                        params.light_candidates, float(params.light_candidates),
+                                        float(params.bsdf_candidates), slots, streams);
       for (int s = 0; s < slots; ++s)
-        traced += resample_candidates(view, sampler, g, domain, params, s, batch, out[row + s], unsampled[row + s]);
+        traced += resample_candidates(view, sampler, g, domain, params, s, params.simd ? &streams : nullptr, batch,
+                                      out[row + s], unsampled[row + s]);
     }
     rays.add(traced);
   });

@@ -1,7 +1,7 @@
 #include "restir/di_reuse.h"
 
 #include "engine/parallel.h"
-#include "restir/combine_lanes.h"
+#include "restir/resample_lanes.h"
 #include "restir/reuse_targets.h"
 
 namespace candela {
@@ -268,7 +268,7 @@ void gather_combination(const ReuseRow& row, int s, Rng& rng, CombineLanes& lane
 }
 
 // Combines every slot of a tile row (ReuseRow) into out[first + slot], with the targets evaluated in lanes
-// first where params.simd, and with pairwise MIS without visibility the combinations too (combine_lanes.h;
+// first where params.simd, and with pairwise MIS without visibility the combinations too (resample_lanes.h;
 // slots whose targets are not all known combine one at a time); `rng` gives each slot's random stream. A
 // slot without inputs keeps its reservoir of `in`. Returns the rays traced.
 uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row, Rng* rng,
@@ -299,11 +299,11 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
     } else {
       // The kept input's sample, placed for the combining pixel, with the lanes' sums.
       static const DiSample kNone{};
-      if (const int k = int(lanes.chosen[s]); k >= 0)
+      if (const int k = int(lanes.result.chosen[s]); k >= 0)
         place_for_combiner(view, row.inputs[s][k], &row.inputs[s][0].domain->lights, r.y);
       else
         r.y = kNone;
-      r.p_hat_y = lanes.p_hat[s], r.w_sum = lanes.w_sum[s], r.M = lanes.M_sum[s], r.W = lanes.W_out[s];
+      r.p_hat_y = lanes.result.p_hat[s], r.w_sum = lanes.result.w_sum[s], r.M = lanes.M_sum[s], r.W = lanes.W_out[s];
     }
   }
   return traced;

@@ -1,17 +1,50 @@
-// The combination kernel (combine_lanes.h), compiled once per instruction set by Highway's foreach_target.h
-// and dispatched at run time. It repeats restir/di_reuse.cpp's pairwise_weight and combine, and
-// Reservoir::update and finalize (restir/reservoir.h), in their order.
+// The resampling kernels (resample_lanes.h), compiled once per instruction set by Highway's foreach_target.h
+// and dispatched at run time. They repeat restir/di_candidates.h's resample_candidates (its light candidates),
+// restir/di_reuse.cpp's pairwise_weight and combine, and Reservoir::update and finalize (restir/reservoir.h),
+// in their order.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "restir/combine_lanes.cpp"
+#define HWY_TARGET_INCLUDE "restir/resample_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
-#include "restir/combine_lanes.h"
+#include "restir/resample_lanes.h"
 #include "engine/lanes-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace candela {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+
+// Reservoir::update of candidate k (weight w, target p, uniform u) where `sampled`: w_sum += w, and the
+// candidate is kept where w > 0 and u w_sum < w.
+struct Stream {
+  V w_sum, p_hat, chosen;
+};
+void update(D d, M sampled, V w, V p, V u, int k, Stream& r) {
+  r.w_sum = hn::IfThenElse(sampled, hn::Add(r.w_sum, w), r.w_sum);
+  const M keep = hn::And(sampled, hn::And(hn::Gt(w, hn::Zero(d)), hn::Lt(hn::Mul(u, r.w_sum), w)));
+  r.chosen = hn::IfThenElse(keep, hn::Set(d, float(k)), r.chosen);
+  r.p_hat = hn::IfThenElse(keep, p, r.p_hat);
+}
+Stream empty_stream(D d) { return {hn::Zero(d), hn::Zero(d), hn::Set(d, -1.0f)}; }
+void store(D d, const Stream& r, int s, StreamLanes& out) {
+  hn::Store(r.chosen, d, out.chosen + s), hn::Store(r.p_hat, d, out.p_hat + s), hn::Store(r.w_sum, d, out.w_sum + s);
+}
+
+void ResampleLightCandidatesLanes(const CandidateLanes* planes, const float* p_light, const float* u, int count,
+                                  float M_l, float M_b, int slots, StreamLanes& out) {
+  const D d;
+  const V zero = hn::Zero(d), m_l = hn::Set(d, M_l), m_b = hn::Set(d, M_b);
+  for (int s = 0; s < slots; s += int(hn::Lanes(d))) {
+    Stream r = empty_stream(d);
+    for (int k = 0; k < count; ++k) {
+      const size_t at = size_t(k) * kLaneSlots + size_t(s);
+      const V pl = hn::LoadU(d, p_light + at), p_hat = hn::Load(d, planes[k].p_hat + s);
+      const V w = hn::Div(p_hat, hn::Add(hn::Mul(m_l, pl), hn::Mul(m_b, hn::Load(d, planes[k].bsdf_area_pdf + s))));
+      update(d, hn::And(hn::Gt(pl, zero), hn::Gt(p_hat, zero)), w, p_hat, hn::LoadU(d, u + at), k, r);
+    }
+    store(d, r, s, out);
+  }
+}
 
 // pairwise_weight of the combining pixel's own sample (k = 0): (1/n) sum_i canonical / (M_i p_i(y_0) +
 // canonical), summed over the inputs i = 1..n in order, where the sum is positive.
@@ -33,7 +66,8 @@ void combine(D d, CombineLanes& c, int s, int max_count) {
   const V count = hn::Load(d, c.count + s), n = hn::Sub(count, one);
   const M alone = hn::Eq(n, zero);  // no other input: the weight is 1
   const V M0 = hn::Load(d, c.M[0] + s);
-  V M_sum = zero, w_sum = zero, p_hat = zero, chosen = hn::Set(d, -1.0f);
+  V M_sum = zero;
+  Stream r = empty_stream(d);
   for (int k = 0; k < max_count; ++k) {
     const M has = hn::Lt(hn::Set(d, float(k)), count);
     const V W = hn::Load(d, c.W[k] + s);
@@ -52,18 +86,13 @@ void combine(D d, CombineLanes& c, int s, int max_count) {
       m = hn::IfThenElseZero(hn::Gt(sum, zero), hn::Div(hn::Div(t, sum), n));
     }
     m = hn::IfThenElse(alone, one, m);
-    // Reservoir::update with w = m p_here W.
-    const V w = hn::Mul(hn::Mul(m, p_here), W);
-    w_sum = hn::IfThenElse(sampled, hn::Add(w_sum, w), w_sum);
-    const M keep = hn::And(sampled, hn::And(hn::Gt(w, zero), hn::Lt(hn::Mul(hn::Load(d, c.u[k] + s), w_sum), w)));
-    chosen = hn::IfThenElse(keep, hn::Set(d, float(k)), chosen);
-    p_hat = hn::IfThenElse(keep, p_here, p_hat);
+    update(d, sampled, hn::Mul(hn::Mul(m, p_here), W), p_here, hn::Load(d, c.u[k] + s), k, r);
   }
   // Reservoir::finalize: W = w_sum / p_hat where p_hat > 0 and the quotient is finite, else 0.
-  const V W = hn::IfThenElseZero(hn::Gt(p_hat, zero), hn::Div(w_sum, p_hat));
+  const V W = hn::IfThenElseZero(hn::Gt(r.p_hat, zero), hn::Div(r.w_sum, r.p_hat));
   hn::Store(hn::IfThenElseZero(hn::IsFinite(W), W), d, c.W_out + s);
-  hn::Store(chosen, d, c.chosen + s), hn::Store(p_hat, d, c.p_hat + s);
-  hn::Store(w_sum, d, c.w_sum + s), hn::Store(M_sum, d, c.M_sum + s);
+  store(d, r, s, c.result);
+  hn::Store(M_sum, d, c.M_sum + s);
 }
 
 void CombinePairwiseLanes(CombineLanes& lanes, int slots, int max_count) {
@@ -79,6 +108,12 @@ HWY_AFTER_NAMESPACE();
 namespace candela {
 
 HWY_EXPORT(CombinePairwiseLanes);
+HWY_EXPORT(ResampleLightCandidatesLanes);
+
+void resample_light_candidates_lanes(const CandidateLanes* planes, const float* p_light, const float* u, int count,
+                                     float M_l, float M_b, int slots, StreamLanes& out) {
+  HWY_DYNAMIC_DISPATCH(ResampleLightCandidatesLanes)(planes, p_light, u, count, M_l, M_b, slots, out);
+}
 
 void combine_pairwise_lanes(CombineLanes& lanes, int slots, int max_count) {
   HWY_DYNAMIC_DISPATCH(CombinePairwiseLanes)(lanes, slots, max_count);
