@@ -40,4 +40,13 @@ void sample_lights(const S& sampler, const ShadingContext& ctx, const vec2* u, S
     for (int k = 0; k < n; ++k) out[k] = sampler.sample(ctx, u[k]);
 }
 
+// Starts loading what sample(ctx, u[k]) of n lights will read, where the sampler can say (prefetch(ctx, u)):
+// a caller that draws for many shading points issues these for all of them first, so that their cache misses
+// overlap instead of stalling each draw in turn.
+template <LightSampler S>
+void prefetch_lights(const S& sampler, const ShadingContext& ctx, const vec2* u, int n) {
+  if constexpr (requires { sampler.prefetch(ctx, *u); })
+    for (int k = 0; k < n; ++k) sampler.prefetch(ctx, u[k]);
+}
+
 }  // namespace candela

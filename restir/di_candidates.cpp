@@ -9,9 +9,8 @@ void DiCandidateBatch::resize(int light_candidates, int bsdf_candidates) {
   uv.resize(k * kLaneSlots);
   p_light.resize(k * kLaneSlots);
   u.resize(k * kLaneSlots);
-  light_u.resize(k);
-  light_uv.resize(k);
-  chosen.resize(k);
+  light_u.resize(k * kLaneSlots);
+  chosen.resize(k * kLaneSlots);
   bsdf.resize(size_t(std::max(bsdf_candidates, 0)) * kLaneSlots);
   directions.resize(size_t(std::max(bsdf_candidates, 0)));
 }

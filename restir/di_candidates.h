@@ -44,7 +44,7 @@ struct DiCandidateBatch {
     return slot[s].receiver;
   }
   // Light candidate k of a slot, at [k * kLaneSlots + slot]: the chosen light and the uniforms that place
-  // the point on it (which, for a triangle light, planes[k] holds).
+  // the point on it (which, for a triangle light, planes[k] holds); where p_light is 0, stale.
   std::vector<uint32_t> light;
   std::vector<vec2> uv;
   std::vector<float> p_light, u;  // light-sampling area density (0: no light chosen), resampling uniform
@@ -56,8 +56,8 @@ struct DiCandidateBatch {
   };
   std::vector<BsdfCandidate> bsdf;         // [k * kLaneSlots + slot]
   std::vector<DirectionLanes> directions;  // per BSDF candidate, its directions' value and density (params.simd)
-  // One slot's light choices while they are drawn: uniforms for the choice and for the point, the choices.
-  std::vector<vec2> light_u, light_uv;
+  // The light choices while they are drawn, at [slot * M_l + k]: the uniforms of the choice, the choices.
+  std::vector<vec2> light_u;
   std::vector<SampledLight> chosen;
   void resize(int light_candidates, int bsdf_candidates);
   // Light candidate k of slot s as a sample.
@@ -67,56 +67,75 @@ struct DiCandidateBatch {
   }
 };
 
-// Stage "di_candidates", part 1 (per pixel): the pixel's receivers, its M_l light candidates drawn from
-// the sampler and placed on their lights (or read from the pixel's light tile, when `tile` is given: one
-// uniform entry each, with the density of the tile's context), into the batch's slot and lanes.
+// Stage "di_candidates", part 1 (per tile row): each pixel's receivers and its M_l light candidates, drawn
+// from the sampler and placed on their lights (or read from the pixel's light tile, with `tiles`: one
+// uniform entry each, with the density of the tile's context), into the batch's slots and lanes. In three
+// passes over the row, so that the cache misses of the sampler's tables and of the chosen lights' records
+// (with 1e5 lights, several per candidate) overlap across pixels instead of stalling each candidate in turn:
+// the uniforms (and the sampler's prefetch), the choices (and the lights' records prefetched), the points.
 template <LightSampler S>
 void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                           const DiParams& params, int frame, size_t i, int slot, const LightTiles::Tile* tile,
-                           DiCandidateBatch& batch) {
-  DiCandidateBatch::Slot& b = batch.slot[slot];
-  b.hit = g.hit(i);
-  b.pixel = i;
-  b.receiver_built = b.target_built = false;
-  for (int k = 0; k < params.light_candidates; ++k) batch.planes[size_t(k)].clear(slot);
-  batch.surfaces.set(slot, domain.surfaces[i]);
-  if (params.simd) batch.exact_surfaces.set(slot, g, i);  // the exact BSDF's terms are built in lanes
-  if (!b.hit) return;
-  b.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
-  b.ctx = tile ? tile->ctx : ShadingContext{g.position[i], g.shading_normal[i]};  // what the candidates' density is for
-  if (!params.simd) {  // the scalar reference evaluates and samples everything on the two receivers
-    batch.exact(g, domain, slot);
-    batch.target(domain, slot);
-  }
-  // Without a tile, the M_l lights in one call (the light tree shares its upper levels between them), each
-  // candidate's random numbers drawn in the order one candidate at a time would draw them.
-  if (!tile) {
-    for (int k = 0; k < params.light_candidates; ++k) {
-      batch.light_u[size_t(k)] = vec2(b.rng.next_float(), b.rng.next_float());
-      batch.light_uv[size_t(k)] = vec2(b.rng.next_float(), b.rng.next_float());
-      batch.u[size_t(k) * kLaneSlots + size_t(slot)] = b.rng.next_float();
+                           const DiParams& params, int frame, size_t row, int x0, int y, int slots,
+                           const LightTiles* tiles, DiCandidateBatch& batch) {
+  const int K = params.light_candidates;
+  for (int s = 0; s < slots; ++s) {
+    DiCandidateBatch::Slot& b = batch.slot[s];
+    const size_t i = row + size_t(s);
+    b.hit = g.hit(i);
+    b.pixel = i;
+    b.receiver_built = b.target_built = false;
+    for (int k = 0; k < K; ++k) batch.planes[size_t(k)].clear(s);
+    batch.surfaces.set(s, domain.surfaces[i]);
+    if (params.simd) batch.exact_surfaces.set(s, g, i);  // the exact BSDF's terms are built in lanes
+    if (!b.hit) continue;
+    b.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
+    const LightTiles::Tile tile = tiles ? tiles->tile(x0 + s, y, frame) : LightTiles::Tile{};
+    b.ctx = tiles ? tile.ctx : ShadingContext{g.position[i], g.shading_normal[i]};  // what the density is for
+    if (!params.simd) {  // the scalar reference evaluates and samples everything on the two receivers
+      batch.exact(g, domain, s);
+      batch.target(domain, s);
     }
-    sample_lights(sampler, b.ctx, batch.light_u.data(), batch.chosen.data(), params.light_candidates);
-  }
-  // Each candidate's light, uniforms and density into the batch and its point straight into the lanes (a
-  // whole DiSample assembled and copied per candidate stalled on store forwarding in the profile).
-  for (int k = 0; k < params.light_candidates; ++k) {
-    const size_t at = size_t(k) * kLaneSlots + size_t(slot);
-    CandidateLanes& plane = batch.planes[size_t(k)];
-    if (tile) {
-      const DiLightCandidate& c = tile->entries[std::min(int(b.rng.next_float() * float(tile->size)), tile->size - 1)];
+    for (int k = 0; k < K; ++k) {
+      const size_t at = size_t(k) * kLaneSlots + size_t(s);
+      if (tiles) {  // the candidate is a tile entry, whole
+        const DiLightCandidate& c = tile.entries[std::min(int(b.rng.next_float() * float(tile.size)), tile.size - 1)];
+        batch.u[at] = b.rng.next_float();
+        batch.p_light[at] = c.p_light;
+        batch.light[at] = c.sample.light, batch.uv[at] = c.sample.uv;
+        if (c.p_light > 0.0f && c.sample.light < view.lights.triangle_count())
+          batch.planes[size_t(k)].set(s, c.sample.point);
+        continue;
+      }
+      // Each candidate's random numbers in the order one candidate at a time would draw them.
+      batch.light_u[size_t(s * K + k)] = vec2(b.rng.next_float(), b.rng.next_float());
+      batch.uv[at] = vec2(b.rng.next_float(), b.rng.next_float());
       batch.u[at] = b.rng.next_float();
-      batch.p_light[at] = c.p_light;
-      batch.light[at] = c.sample.light, batch.uv[at] = c.sample.uv;
-      if (c.p_light > 0.0f && c.sample.light < view.lights.triangle_count()) plane.set(slot, c.sample.point);
-      continue;
     }
-    const SampledLight chosen = batch.chosen[size_t(k)];
-    batch.p_light[at] = di_light_pdf(view.lights, chosen);
-    if (batch.p_light[at] <= 0.0f) continue;
-    batch.light[at] = chosen.index, batch.uv[at] = batch.light_uv[size_t(k)];
-    if (chosen.index < view.lights.triangle_count())
-      plane.set(slot, view.lights.triangle_point(view.scene, chosen.index, batch.uv[at]));
+    if (!tiles) prefetch_lights(sampler, b.ctx, &batch.light_u[size_t(s * K)], K);
+  }
+  if (tiles) return;
+  // The M_l lights of a pixel in one call (the light tree shares its upper levels between them).
+  for (int s = 0; s < slots; ++s) {
+    if (!batch.slot[s].hit) continue;
+    SampledLight* chosen = &batch.chosen[size_t(s * K)];
+    sample_lights(sampler, batch.slot[s].ctx, &batch.light_u[size_t(s * K)], chosen, K);
+    for (int k = 0; k < K; ++k)
+      if (chosen[k].pmf > 0.0f && chosen[k].index < view.lights.triangle_count())
+        view.lights.prefetch_triangle(chosen[k].index);
+  }
+  // Each candidate's light and density into the batch and its point straight into the lanes (a whole
+  // DiSample assembled and copied per candidate stalled on store forwarding in the profile).
+  for (int s = 0; s < slots; ++s) {
+    if (!batch.slot[s].hit) continue;
+    for (int k = 0; k < K; ++k) {
+      const size_t at = size_t(k) * kLaneSlots + size_t(s);
+      const SampledLight chosen = batch.chosen[size_t(s * K + k)];
+      batch.p_light[at] = di_light_pdf(view.lights, chosen);
+      if (batch.p_light[at] <= 0.0f) continue;
+      batch.light[at] = chosen.index;
+      if (chosen.index < view.lights.triangle_count())
+        batch.planes[size_t(k)].set(s, view.lights.triangle_point(view.scene, chosen.index, batch.uv[at]));
+    }
   }
 }
 
@@ -272,11 +291,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
     uint64_t traced = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t row = size_t(y) * size_t(g.width) + size_t(tile.x0);
-      for (int s = 0; s < slots; ++s) {
-        const LightTiles::Tile light_tile = tiles ? tiles->tile(tile.x0 + s, y, frame) : LightTiles::Tile{};
-        draw_light_candidates(view, sampler, g, domain, params, frame, row + s, s, tiles ? &light_tile : nullptr,
-                              batch);
-      }
+      draw_light_candidates(view, sampler, g, domain, params, frame, row, tile.x0, y, slots, tiles, batch);
       if (params.simd) {
         build_receiver_lanes(batch.surfaces, domain.eye, slots, batch.lanes);
         build_exact_receiver_lanes(batch.exact_surfaces, domain.eye, slots, batch.lanes.exact);

@@ -1,5 +1,7 @@
 #include "samplers/simple_samplers.h"
 
+#include <bit>
+
 #include "engine/check.h"
 
 namespace candela {
@@ -49,18 +51,19 @@ PowerLightSampler::PowerLightSampler(const LightList& lights) {
   }
   for (uint32_t i : large) bins_[i] = {1.0f, i};
   for (uint32_t i : small) bins_[i] = {1.0f, i};  // round-off leftovers
+  for (uint32_t i = 0; i < n; ++i) bins_[i].pmf = pmf_[i], bins_[i].alias_pmf = pmf_[bins_[i].alias];
 }
 
 // u.x picks the bin, u.y decides between the bin and its alias.
 SampledLight PowerLightSampler::sample(const ShadingContext&, vec2 u) const {
   if (bins_.empty()) return {};
-  uint32_t bin = std::min(uint32_t(double(u.x) * bins_.size()), uint32_t(bins_.size() - 1));
+  const uint32_t bin = bin_of(u);
   // The bin or its alias chosen without a branch: the choice is a coin flip per sample, and the mispredicted
   // branch cost about half of a sample in the profile.
   const Bin& b = bins_[bin];
   const uint32_t keep = 0u - uint32_t(u.y < b.threshold);
-  const uint32_t index = (bin & keep) | (b.alias & ~keep);
-  return {index, pmf_[index]};
+  const uint32_t pmf = (std::bit_cast<uint32_t>(b.pmf) & keep) | (std::bit_cast<uint32_t>(b.alias_pmf) & ~keep);
+  return {(bin & keep) | (b.alias & ~keep), std::bit_cast<float>(pmf)};
 }
 
 }  // namespace candela
