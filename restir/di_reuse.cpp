@@ -241,13 +241,19 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
 }
 
 // Whether slot s of a row can combine in lanes: every target its pairwise weights read was evaluated
-// beforehand (not so for punctual lights' samples).
-bool targets_known(const ReuseRow& row, int s) {
+// beforehand (not so for punctual lights' samples), and with `visibility` every visibility they read was
+// traced beforehand (a neighbour's own sample: the spatial pass's rays; the combining pixel's sample from a
+// neighbour: evaluate_reuse_targets's), where the weight's term is positive.
+bool targets_known(const ReuseRow& row, int s, bool visibility) {
   const DiReuseInput* in = row.inputs[s];
   const LaneTargets& t = row.targets[s];
   for (int k = 1; k < row.count[s]; ++k) {
-    if (in[k].reservoir->W > 0.0f && !(t.known_at >> k & 1u)) return false;
-    if (in[0].reservoir->W > 0.0f && !(t.known_of >> k & 1u)) return false;
+    if (in[k].reservoir->W > 0.0f &&
+        (!(t.known_at >> k & 1u) || (visibility && in[k].M * in[k].reservoir->p_hat_y > 0.0f && in[k].own_visible < 0)))
+      return false;
+    if (in[0].reservoir->W > 0.0f &&
+        (!(t.known_of >> k & 1u) || (visibility && in[k].M * t.of_combiner[k] > 0.0f && !(t.known_visible >> k & 1u))))
+      return false;
   }
   return true;
 }
@@ -264,12 +270,14 @@ void gather_combination(const ReuseRow& row, int s, Rng& rng, CombineLanes& lane
     lanes.own[k][s] = in[k].reservoir->p_hat_y;
     lanes.at[k][s] = t.at_combiner[k];
     lanes.of[k][s] = t.of_combiner[k];
+    lanes.own_visible[k][s] = in[k].own_visible == 1 ? 1.0f : 0.0f;
+    lanes.of_visible[k][s] = float(t.visible >> k & 1u);
   }
 }
 
 // Combines every slot of a tile row (ReuseRow) into out[first + slot], with the targets evaluated in lanes
-// first where params.simd, and with pairwise MIS without visibility the combinations too (resample_lanes.h;
-// slots whose targets are not all known combine one at a time); `rng` gives each slot's random stream. A
+// first where params.simd, and with pairwise MIS the combinations too (resample_lanes.h; slots whose targets
+// or visibilities are not all known combine one at a time); `rng` gives each slot's random stream. A
 // slot without inputs keeps its reservoir of `in`. Returns the rays traced.
 uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row, Rng* rng,
                      size_t first, const std::vector<DiReservoir>& in, std::vector<DiReservoir>& out) {
@@ -278,17 +286,16 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
       params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
   thread_local CombineLanes lanes;
   bool in_lanes[kLaneSlots] = {};
-  if (params.simd && params.bias == DiBiasCorrection::Pairwise && !params.mis_visibility &&
-      params.max_jacobian <= 0.0f) {
+  if (params.simd && params.bias == DiBiasCorrection::Pairwise && params.max_jacobian <= 0.0f) {
     int max_count = 0;
     for (int s = 0; s < slots; ++s) {
-      in_lanes[s] = row.count[s] > 0 && targets_known(row, s);
+      in_lanes[s] = row.count[s] > 0 && targets_known(row, s, params.mis_visibility);
       if (in_lanes[s])
         gather_combination(row, s, rng[s], lanes), max_count = std::max(max_count, row.count[s]);
       else
         lanes.count[s] = 0.0f;
     }
-    if (max_count > 0) combine_pairwise_lanes(lanes, slots, max_count);
+    if (max_count > 0) combine_pairwise_lanes(lanes, slots, max_count, params.mis_visibility);
   }
   for (int s = 0; s < slots; ++s) {
     DiReservoir& r = out[first + size_t(s)];

@@ -46,13 +46,20 @@ void ResampleLightCandidatesLanes(const CandidateLanes* planes, const float* p_l
   }
 }
 
+// pairwise_weight's term with visibility: a positive term t is 0 where the sample is not visible (visible 0).
+V unless_occluded(D d, V t, V visible) {
+  return hn::IfThenZeroElse(hn::AndNot(hn::Gt(visible, hn::Zero(d)), hn::Gt(t, hn::Zero(d))), t);
+}
+
 // pairwise_weight of the combining pixel's own sample (k = 0): (1/n) sum_i canonical / (M_i p_i(y_0) +
-// canonical), summed over the inputs i = 1..n in order, where the sum is positive.
-V canonical_weight(D d, const CombineLanes& c, int s, int max_count, V count, V n, V canonical) {
+// canonical), summed over the inputs i = 1..n in order, where the sum is positive (with visibility, each
+// M_i p_i(y_0) only where y_0 is visible from input i).
+V canonical_weight(D d, const CombineLanes& c, int s, int max_count, bool visibility, V count, V n, V canonical) {
   const V zero = hn::Zero(d);
   V m = zero;
   for (int i = 1; i < max_count; ++i) {
-    const V t = hn::Mul(hn::Load(d, c.M[i] + s), hn::Load(d, c.of[i] + s));
+    V t = hn::Mul(hn::Load(d, c.M[i] + s), hn::Load(d, c.of[i] + s));
+    if (visibility) t = unless_occluded(d, t, hn::Load(d, c.of_visible[i] + s));
     const V sum = hn::Add(t, canonical);
     const M counts = hn::And(hn::Lt(hn::Set(d, float(i)), count), hn::Gt(sum, zero));
     m = hn::IfThenElse(counts, hn::Add(m, hn::Div(canonical, sum)), m);
@@ -61,7 +68,7 @@ V canonical_weight(D d, const CombineLanes& c, int s, int max_count, V count, V 
 }
 
 // One vector of slots [s, s + lanes): combine's loop over the inputs, then Reservoir::finalize.
-void combine(D d, CombineLanes& c, int s, int max_count) {
+void combine(D d, CombineLanes& c, int s, int max_count, bool visibility) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   const V count = hn::Load(d, c.count + s), n = hn::Sub(count, one);
   const M alone = hn::Eq(n, zero);  // no other input: the weight is 1
@@ -79,9 +86,10 @@ void combine(D d, CombineLanes& c, int s, int max_count) {
     const V canonical = hn::Mul(hn::Div(M0, n), p_here);
     V m;
     if (k == 0) {
-      m = canonical_weight(d, c, s, max_count, count, n, canonical);
+      m = canonical_weight(d, c, s, max_count, visibility, count, n, canonical);
     } else {
-      const V t = hn::Mul(hn::Load(d, c.M[k] + s), hn::Load(d, c.own[k] + s));
+      V t = hn::Mul(hn::Load(d, c.M[k] + s), hn::Load(d, c.own[k] + s));
+      if (visibility) t = unless_occluded(d, t, hn::Load(d, c.own_visible[k] + s));
       const V sum = hn::Add(t, canonical);
       m = hn::IfThenElseZero(hn::Gt(sum, zero), hn::Div(hn::Div(t, sum), n));
     }
@@ -95,9 +103,9 @@ void combine(D d, CombineLanes& c, int s, int max_count) {
   hn::Store(M_sum, d, c.M_sum + s);
 }
 
-void CombinePairwiseLanes(CombineLanes& lanes, int slots, int max_count) {
+void CombinePairwiseLanes(CombineLanes& lanes, int slots, int max_count, bool visibility) {
   const D d;
-  for (int s = 0; s < slots; s += int(hn::Lanes(d))) combine(d, lanes, s, max_count);
+  for (int s = 0; s < slots; s += int(hn::Lanes(d))) combine(d, lanes, s, max_count, visibility);
 }
 
 }  // namespace HWY_NAMESPACE
@@ -115,8 +123,8 @@ void resample_light_candidates_lanes(const CandidateLanes* planes, const float* 
   HWY_DYNAMIC_DISPATCH(ResampleLightCandidatesLanes)(planes, p_light, u, count, M_l, M_b, slots, out);
 }
 
-void combine_pairwise_lanes(CombineLanes& lanes, int slots, int max_count) {
-  HWY_DYNAMIC_DISPATCH(CombinePairwiseLanes)(lanes, slots, max_count);
+void combine_pairwise_lanes(CombineLanes& lanes, int slots, int max_count, bool visibility) {
+  HWY_DYNAMIC_DISPATCH(CombinePairwiseLanes)(lanes, slots, max_count, visibility);
 }
 
 }  // namespace candela

@@ -34,6 +34,10 @@ struct CombineLanes {
   alignas(64) float at[kMaxReuseInputs][kLaneSlots];   // p_0(y_k), k >= 1 (read where W > 0)
   alignas(64) float of[kMaxReuseInputs][kLaneSlots];   // p_k(y_0), k >= 1 (read where input 0's W > 0)
   alignas(64) float u[kMaxReuseInputs][kLaneSlots];    // resampling uniform of input k
+  // With visibility: 1 where y_k is visible from input k's surface, and where y_0 is (read where the
+  // weights' terms are positive).
+  alignas(64) float own_visible[kMaxReuseInputs][kLaneSlots];
+  alignas(64) float of_visible[kMaxReuseInputs][kLaneSlots];
   // Written by the kernel: the stream's result, the total confidence and the result's contribution weight
   // (Reservoir::finalize).
   StreamLanes result;
@@ -43,7 +47,8 @@ struct CombineLanes {
 // The combinations of slots [0, slots), each over its count inputs (count >= 1; up to max_count): the pairwise
 // MIS weight m_k of every input's sample (Bitterli 2022, ch. 9; di_reuse.cpp), its resampling weight
 // m_k p_0(y_k) W_k streamed through one reservoir with uniform u_k, then the result's contribution weight.
+// With `visibility` every neighbour's term counts only where the sample is visible from its surface.
 // Cost per slot: ~4 divisions and 12 flops per input, in lanes.
-void combine_pairwise_lanes(CombineLanes& lanes, int slots, int max_count);
+void combine_pairwise_lanes(CombineLanes& lanes, int slots, int max_count, bool visibility);
 
 }  // namespace candela
