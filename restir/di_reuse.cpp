@@ -358,6 +358,23 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     return similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params) ? int64_t(j)
                                                                                                        : -1;
   };
+  // With visibility in the pairwise weights, whether each history sample is visible from its own surface
+  // (against this frame's geometry; the weight of a positive term reads it), into the input, traced 16 at
+  // a time in slot order instead of one ray at a time inside the combinations. Returns the rays traced.
+  const bool own_visibility = params.mis_visibility && params.bias == DiBiasCorrection::Pairwise;
+  auto trace_own_visibility = [&](int slots, ReuseRow& row) {
+    auto answer = [&](int s, const RayPacket16& packet, int lane) {
+      row.inputs[s][1].own_visible = Tracer::occluded_lane(packet, lane) ? 0 : 1;
+    };
+    auto queue = ray_queue16<int>(view.tracer, RayQuery::Occluded, answer);
+    for (int s = 0; s < slots; ++s) {
+      const DiReuseInput& in = row.inputs[s][1];
+      if (row.count[s] < 2 || in.reservoir->W <= 0.0f || !(in.M * in.reservoir->p_hat_y > 0.0f)) continue;
+      queue.add(di_shadow_ray(view.tracer, previous.surfaces[in.pixel], previous.lights, in.reservoir->y), s);
+    }
+    queue.finish();
+    return queue.traced();
+  };
   // Per tile row: each pixel's pair of inputs (its reservoir and its history, aged by a frame), then the
   // row's combinations.
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
@@ -386,6 +403,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
         batch.row.count[s] = 2;
         history_pixel[i] = int32_t(j);
       }
+      if (own_visibility) traced += trace_own_visibility(slots, batch.row);
       traced += combine_row(view, params, slots, batch.row, batch.rng, first, reservoirs, out);
     }
     rays.add(traced);
