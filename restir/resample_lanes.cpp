@@ -40,7 +40,9 @@ void ResampleLightCandidatesLanes(const CandidateLanes* planes, const float* p_l
       const size_t at = size_t(k) * kLaneSlots + size_t(s);
       const V pl = hn::LoadU(d, p_light + at), p_hat = hn::Load(d, planes[k].p_hat + s);
       const V w = hn::Div(p_hat, hn::Add(hn::Mul(m_l, pl), hn::Mul(m_b, hn::Load(d, planes[k].bsdf_area_pdf + s))));
-      update(d, hn::And(hn::Gt(pl, zero), hn::Gt(p_hat, zero)), w, p_hat, hn::LoadU(d, u + at), k, r);
+      // The scalar code skips a candidate where p_light <= 0 or p_hat <= 0 (so a NaN is streamed, as there).
+      const M sampled = hn::Not(hn::Or(hn::Le(pl, zero), hn::Le(p_hat, zero)));
+      update(d, sampled, w, p_hat, hn::LoadU(d, u + at), k, r);
     }
     store(d, r, s, out);
   }
@@ -79,7 +81,7 @@ void combine(D d, CombineLanes& c, int s, int max_count, bool visibility) {
     const M has = hn::Lt(hn::Set(d, float(k)), count);
     const V W = hn::Load(d, c.W[k] + s);
     M_sum = hn::IfThenElse(has, hn::Add(M_sum, hn::Load(d, c.M[k] + s)), M_sum);
-    const M sampled = hn::And(has, hn::Gt(W, zero));
+    const M sampled = hn::AndNot(hn::Le(W, zero), has);  // combine skips inputs with W <= 0
     if (hn::AllFalse(d, sampled)) continue;
     // The target at the combining pixel: its own stored one for k = 0, else p_0(y_k).
     const V p_here = hn::Load(d, (k == 0 ? c.own[0] : c.at[k]) + s);
