@@ -60,6 +60,14 @@ struct DiCandidateBatch {
   std::vector<vec2> light_u;
   std::vector<SampledLight> chosen;
   void resize(int light_candidates, int bsdf_candidates);
+  // Whether slot s drew a punctual light among its light_candidates (whose targets the lanes do not have).
+  bool drew_punctual(const LightList& lights, int light_candidates, int s) const {
+    for (int k = 0; k < light_candidates; ++k) {
+      const size_t at = size_t(k) * kLaneSlots + size_t(s);
+      if (p_light[at] > 0.0f && light[at] >= lights.triangle_count()) return true;
+    }
+    return false;
+  }
   // Light candidate k of slot s as a sample.
   DiSample candidate(const LightList& lights, int k, int s) const {
     const size_t at = size_t(k) * kLaneSlots + size_t(s);
@@ -218,26 +226,23 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
   DiCandidateBatch::Slot& b = batch.slot[slot];
   if (!b.hit) return 0;
   const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
-  for (int k = 0; lanes && k < params.light_candidates; ++k) {
-    const size_t at = size_t(k) * kLaneSlots + size_t(slot);
-    if (batch.p_light[at] > 0.0f && batch.light[at] >= view.lights.triangle_count()) lanes = nullptr;
-  }
-  if (lanes) {
+  if (lanes && !batch.drew_punctual(view.lights, params.light_candidates, slot)) {
     r.w_sum = lanes->w_sum[slot];
     if (const int k = int(lanes->chosen[slot]); k >= 0) r.y = batch.candidate(view.lights, k, slot);
     r.p_hat_y = lanes->p_hat[slot];
-  }
-  for (int k = 0; !lanes && k < params.light_candidates; ++k) {
-    const size_t at = size_t(k) * kLaneSlots + size_t(slot);
-    if (batch.p_light[at] <= 0.0f) continue;
-    const DiSample s = batch.candidate(view.lights, k, slot);
-    float p_hat = batch.planes[size_t(k)].p_hat[slot], p_bsdf = batch.planes[size_t(k)].bsdf_area_pdf[slot];
-    if (s.light >= view.lights.triangle_count()) {  // punctual: not in the lanes
-      p_hat = di_target(di_contribution(batch.target(domain, slot), s));
-      p_bsdf = 0.0f;
+  } else {
+    for (int k = 0; k < params.light_candidates; ++k) {
+      const size_t at = size_t(k) * kLaneSlots + size_t(slot);
+      if (batch.p_light[at] <= 0.0f) continue;
+      const DiSample s = batch.candidate(view.lights, k, slot);
+      float p_hat = batch.planes[size_t(k)].p_hat[slot], p_bsdf = batch.planes[size_t(k)].bsdf_area_pdf[slot];
+      if (s.light >= view.lights.triangle_count()) {  // punctual: not in the lanes
+        p_hat = di_target(di_contribution(batch.target(domain, slot), s));
+        p_bsdf = 0.0f;
+      }
+      if (p_hat <= 0.0f) continue;
+      r.update(s, p_hat / (M_l * batch.p_light[at] + M_b * p_bsdf), p_hat, batch.u[at]);
     }
-    if (p_hat <= 0.0f) continue;
-    r.update(s, p_hat / (M_l * batch.p_light[at] + M_b * p_bsdf), p_hat, batch.u[at]);
   }
   for (int k = 0; k < params.bsdf_candidates; ++k) {
     const DiCandidateBatch::BsdfCandidate& candidate = batch.bsdf[size_t(k) * kLaneSlots + size_t(slot)];
