@@ -43,25 +43,26 @@ inline float power_heuristic(float a, float b) {
   return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 
-// Next-event estimation at one surface point: picks a light with the sampler, samples a point on it,
-// traces one shadow ray and returns the MIS-weighted contribution (without the path throughput).
+// Next-event estimation at one surface point up to its shadow ray: picks a light with the sampler, samples
+// a point on it and writes the shadow ray and the MIS-weighted contribution (without the path throughput)
+// that counts if the ray is not occluded. False when there is nothing to trace (no contribution possible).
 template <LightSampler S, class Stream>
-vec3 estimate_direct_light(const SceneView& view, const S& sampler, const SurfacePoint& sp, const Bsdf& bsdf,
-                           const vec3& wo, Stream& rng, uint64_t& rays) {
+bool sample_direct_light(const SceneView& view, const S& sampler, const SurfacePoint& sp, const Bsdf& bsdf,
+                         const vec3& wo, Stream& rng, Ray& shadow, vec3& contribution) {
   ShadingContext ctx{sp.position, sp.shading_normal};
   SampledLight chosen = sampler.sample(ctx, rng.next_2d());
   vec2 u = rng.next_2d();
-  if (chosen.pmf <= 0.0f) return vec3(0.0f);
+  if (chosen.pmf <= 0.0f) return false;
   LightSample ls = view.lights.sample(view.scene, chosen.index, sp.position, u);
-  if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return vec3(0.0f);
-  if (glm::dot(ls.wi, sp.geometric_normal) <= 0.0f) return vec3(0.0f);
+  if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return false;
+  if (glm::dot(ls.wi, sp.geometric_normal) <= 0.0f) return false;
   vec3 f = bsdf.eval(wo, ls.wi) * std::abs(glm::dot(ls.wi, sp.shading_normal));
-  if (max_component(f) <= 0.0f) return vec3(0.0f);
-  ++rays;
-  if (view.tracer.occluded(shadow_ray(view.tracer, sp.position, sp.geometric_normal, ls))) return vec3(0.0f);
+  if (max_component(f) <= 0.0f) return false;
   float p_light = chosen.pmf * ls.pdf;
   float weight = ls.is_delta ? 1.0f : power_heuristic(p_light, bsdf.pdf(wo, ls.wi));
-  return f * ls.radiance * (weight / p_light);
+  shadow = shadow_ray(view.tracer, sp.position, sp.geometric_normal, ls);
+  contribution = f * ls.radiance * (weight / p_light);
+  return true;
 }
 
 // Where a path (or the rest of one) starts: the ray leaving its last vertex, that vertex's bounce count
@@ -75,63 +76,117 @@ struct PathStart {
   bool first_emission = true;
 };
 
+// A path between two bounces: the ray to trace next, the radiance gathered and the throughput, what MIS
+// needs of the vertex that sampled the ray, and that vertex's next-event estimate while its shadow ray is
+// not traced yet (`light_pending`; `light` holds the contribution times the throughput).
+struct PathState {
+  explicit PathState(const PathStart& start)
+      : ray(start.ray),
+        prev_bsdf_pdf(start.bsdf_pdf),
+        prev_ctx(start.from),
+        depth(start.depth),
+        emission_counts(start.first_emission) {}
+  Ray ray;
+  vec3 L{0.0f}, beta{1.0f};
+  float prev_bsdf_pdf;
+  ShadingContext prev_ctx;
+  int depth;             // bounce of the vertex `ray` reaches, counted from the camera
+  bool emission_counts;  // whether emission at that vertex counts (false only at a start that says so)
+  bool first = true;     // `ray` is the start's ray
+  bool alive = true;     // `ray` is still to be traced
+  bool overflowed = false;
+  bool light_pending = false;
+  Ray shadow;
+  vec3 light{0.0f};
+  // The path's radiance once it has ended: NaN when its throughput overflowed.
+  vec3 radiance() const { return overflowed ? vec3(std::numeric_limits<float>::quiet_NaN()) : L; }
+};
+
+// One bounce of a path whose ray has been traced to `hit`: adds the emission the ray reached (weighted by
+// the power heuristic against NEE's chance of the same point), draws the vertex's next-event estimate
+// (leaving its shadow ray pending) and the next ray with Russian roulette, or ends the path (alive =
+// false). `first_hit`, if given, receives the surface the start's ray hits. Reads the scene, light list
+// and sampler; draws 6-7 random numbers.
+template <LightSampler S, class Stream>
+void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams& params, PathState& st, const Hit& hit,
+                 Stream& rng, std::optional<SurfacePoint>* first_hit) {
+  st.alive = false;
+  if (!hit.valid()) {
+    st.L += st.beta * view.lights.environment();  // the environment is reached by BSDF sampling only
+    return;
+  }
+  const vec3 wo = -st.ray.direction;
+  SurfacePoint sp = surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, wo);
+  const bool first = st.first;
+  st.first = false;
+  if (first && first_hit) *first_hit = sp;
+  // Emission reached by a BSDF ray, weighted against the chance NEE would have sampled the same point.
+  if (max_component(sp.emission) > 0.0f && (!first || st.emission_counts)) {
+    float weight = 1.0f;
+    int64_t light = st.depth == 0 ? -1 : view.lights.light_index(hit.instance, hit.prim);
+    if (light >= 0) {
+      float p_light = sampler.pmf(st.prev_ctx, uint32_t(light)) *
+                      view.lights.pdf_solid_angle(size_t(light), st.prev_ctx.position, sp.position);
+      weight = power_heuristic(st.prev_bsdf_pdf, p_light);
+    }
+    st.L += st.beta * sp.emission * weight;
+  }
+  if (st.depth >= params.max_depth) return;
+
+  Bsdf bsdf = sp.bsdf();
+  vec3 contribution;
+  st.light_pending = sample_direct_light(view, sampler, sp, bsdf, wo, rng, st.shadow, contribution);
+  if (st.light_pending) st.light = st.beta * contribution;
+
+  // Continue the path by sampling the BSDF.
+  BsdfSample bs;
+  vec2 u = rng.next_2d();
+  if (!bsdf.sample(wo, u, rng.next_float(), bs)) return;
+  if (glm::dot(bs.wi, sp.geometric_normal) <= 0.0f) return;
+  st.beta *= bs.f * (std::abs(glm::dot(bs.wi, sp.shading_normal)) / bs.pdf);
+  st.prev_bsdf_pdf = bs.pdf;
+  st.prev_ctx = ShadingContext{sp.position, sp.shading_normal};
+  st.ray = view.tracer.spawn_ray(sp.position, sp.geometric_normal, bs.wi);
+
+  if (st.depth + 1 >= params.rr_start_depth) {
+    float survive = std::min(0.95f, max_component(st.beta));
+    if (rng.next_float() >= survive) return;
+    st.beta /= survive;
+  }
+  // A throughput that overflowed makes the whole path invalid: NaN, which the caller drops and counts.
+  if (!is_finite(st.beta)) {
+    st.overflowed = true;
+    return;
+  }
+  ++st.depth;
+  st.alive = true;
+}
+
+// The answer of a pending next-event estimate's shadow ray.
+inline void finish_direct_light(PathState& st, bool occluded) {
+  if (!occluded) st.L += st.light;
+  st.light_pending = false;
+}
+
 // Radiance arriving along start.ray: NEE with the light sampler and BSDF sampling combined by the power
 // heuristic, Russian roulette, at most params.max_depth bounces counted from the camera; NaN when the
 // path's throughput overflowed (callers drop and count non-finite results). `first_hit`, if given,
-// receives the surface the ray hits first (stays empty on a miss).
+// receives the surface the ray hits first (stays empty on a miss). One ray at a time (engine/path_batch.h
+// traces many paths in packets with the same results).
 template <LightSampler S, class Stream>
 vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams& params, const PathStart& start,
                 Stream& rng, uint64_t& rays, std::optional<SurfacePoint>* first_hit = nullptr) {
-  Ray ray = start.ray;
-  vec3 L(0.0f), beta(1.0f);
-  float prev_bsdf_pdf = start.bsdf_pdf;
-  ShadingContext prev_ctx = start.from;
-  for (int depth = start.depth;; ++depth) {
-    Hit hit = view.tracer.intersect(ray);
+  PathState st(start);
+  while (st.alive) {
+    Hit hit = view.tracer.intersect(st.ray);
     ++rays;
-    if (!hit.valid()) {
-      L += beta * view.lights.environment();  // the environment is reached by BSDF sampling only
-      break;
+    path_bounce(view, sampler, params, st, hit, rng, first_hit);
+    if (st.light_pending) {
+      ++rays;
+      finish_direct_light(st, view.tracer.occluded(st.shadow));
     }
-    SurfacePoint sp = surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -ray.direction);
-    const bool first = depth == start.depth;
-    if (first && first_hit) *first_hit = sp;
-    // Emission reached by a BSDF ray, weighted against the chance NEE would have sampled the same point.
-    if (max_component(sp.emission) > 0.0f && (!first || start.first_emission)) {
-      float weight = 1.0f;
-      int64_t light = depth == 0 ? -1 : view.lights.light_index(hit.instance, hit.prim);
-      if (light >= 0) {
-        float p_light = sampler.pmf(prev_ctx, uint32_t(light)) *
-                        view.lights.pdf_solid_angle(size_t(light), prev_ctx.position, sp.position);
-        weight = power_heuristic(prev_bsdf_pdf, p_light);
-      }
-      L += beta * sp.emission * weight;
-    }
-    if (depth >= params.max_depth) break;
-
-    vec3 wo = -ray.direction;
-    Bsdf bsdf = sp.bsdf();
-    L += beta * estimate_direct_light(view, sampler, sp, bsdf, wo, rng, rays);
-
-    // Continue the path by sampling the BSDF.
-    BsdfSample bs;
-    vec2 u = rng.next_2d();
-    if (!bsdf.sample(wo, u, rng.next_float(), bs)) break;
-    if (glm::dot(bs.wi, sp.geometric_normal) <= 0.0f) break;
-    beta *= bs.f * (std::abs(glm::dot(bs.wi, sp.shading_normal)) / bs.pdf);
-    prev_bsdf_pdf = bs.pdf;
-    prev_ctx = ShadingContext{sp.position, sp.shading_normal};
-    ray = view.tracer.spawn_ray(sp.position, sp.geometric_normal, bs.wi);
-
-    if (depth + 1 >= params.rr_start_depth) {
-      float survive = std::min(0.95f, max_component(beta));
-      if (rng.next_float() >= survive) break;
-      beta /= survive;
-    }
-    // A throughput that overflowed makes the whole path invalid: NaN, which the caller drops and counts.
-    if (!is_finite(beta)) return vec3(std::numeric_limits<float>::quiet_NaN());
   }
-  return L;
+  return st.radiance();
 }
 
 // Stage: adds params.spp path samples per pixel into `sum` (running sum of radiance; divide by the total

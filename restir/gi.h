@@ -9,6 +9,7 @@
 // area measure of x_s: moving a sample to another receiver changes that area factor exactly by the
 // reconnection Jacobian (the paper's eq. 11), so the Jacobian is part of the target and of W. The
 // paper's approximation stays: x_s is taken to send L_o to every receiver (exact for diffuse x_s).
+#include "engine/path_batch.h"
 #include "restir/di.h"
 
 namespace candela {
@@ -23,46 +24,70 @@ struct GiParams {
 // Stage "gi_samples": reads the G-buffer (exact surface: BSDF sampling) and packed surfaces (target);
 // writes one reservoir per pixel holding its sample point, M = 1 and W = 1 / p_area(x_s) with p_area the
 // BSDF's solid-angle density times |cos_s| / d^2; a path whose radiance is not finite leaves an empty
-// reservoir and is counted in `non_finite`. Cost: one path per pixel (about 1 + 2 x bounces rays).
+// reservoir and is counted in `non_finite`. Cost: one path per pixel (about 1 + 2 x bounces rays), a tile's
+// paths traced together with their rays in packets (engine/path_batch.h).
 template <LightSampler S>
 void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
                         const GiParams& params, int frame, std::vector<DiReservoir>& out, RayCounter& rays,
                         Counter& non_finite) {
   out.assign(g.size(), DiReservoir{});
+  if (params.max_depth < 2) return;
   PathTracerParams path;
   path.max_depth = params.max_depth;
   path.rr_start_depth = params.rr_start_depth;
-  for_each_pixel(g.width, g.height, rays, [&](size_t i, int, int) -> uint64_t {
-    if (!g.hit(i) || params.max_depth < 2) return 0;
-    // One attempt, M = 1, whatever comes of it: a ray that escapes or a path that brings no light is a
-    // sample of zero contribution, and counting it keeps the reuse MIS weights consistent (with M = 0
-    // there, the neighbours' samples were weighted as if this pixel could not have drawn theirs: +11%
-    // indirect light with one neighbour, measured).
-    DiReservoir& r = out[i];
-    r.M = 1.0f;
-    Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0x61);
-    const DiReceiver receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
-    vec2 ub(rng.next_float(), rng.next_float()), tag(rng.next_float(), rng.next_float());
-    float lobe = rng.next_float(), u = rng.next_float();
-    BsdfSample bs;
-    if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f)
-      return 0;
-    uint64_t traced = 0;
-    std::optional<SurfacePoint> x_s;
-    PathStart start{view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi), 1, bs.pdf,
-                    ShadingContext{receiver.position, receiver.shading_normal}, false};
-    vec3 L = trace_path(view, sampler, path, start, rng, traced, &x_s);
-    if (!is_finite(L)) non_finite.add(1);
-    if (!x_s || !is_finite(L) || max_component(L) <= 0.0f) return traced;
-    const vec3 d = x_s->position - receiver.position;
-    const float d2 = glm::dot(d, d), cos_s = std::abs(glm::dot(x_s->geometric_normal, d)) / std::sqrt(d2);
-    const float p_area = bs.pdf * cos_s / d2;
-    DiSample s{kSurfacePointSample, tag, LightPoint{x_s->position, x_s->geometric_normal, L, false}, 0};
-    float p_hat = di_target(di_contribution(di_receiver(domain, i), s));
-    if (!(p_area > 0.0f) || p_hat <= 0.0f) return traced;
-    r.update(s, p_hat / p_area, p_hat, u);
-    r.finalize();
-    return traced;
+  // What a path's reservoir needs of its start.
+  struct Start {
+    size_t pixel;
+    vec3 position;  // x_v
+    float pdf;      // the BSDF's solid-angle density of the first ray
+    vec2 tag;
+    float u;  // the reservoir's uniform
+  };
+  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+    std::vector<Start> starts;
+    std::vector<PathState> paths;
+    std::vector<Rng> rngs;
+    // Per pixel: the first ray, drawn from the BSDF of the visible point x_v.
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        const size_t i = size_t(y) * size_t(g.width) + size_t(x);
+        if (!g.hit(i)) continue;
+        // One attempt, M = 1, whatever comes of it: a ray that escapes or a path that brings no light is a
+        // sample of zero contribution, and counting it keeps the reuse MIS weights consistent (with M = 0
+        // there, the neighbours' samples were weighted as if this pixel could not have drawn theirs: +11%
+        // indirect light with one neighbour, measured).
+        out[i].M = 1.0f;
+        Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0x61);
+        const DiReceiver receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
+        vec2 ub(rng.next_float(), rng.next_float()), tag(rng.next_float(), rng.next_float());
+        float lobe = rng.next_float(), u = rng.next_float();
+        BsdfSample bs;
+        if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f)
+          continue;
+        starts.push_back(Start{i, receiver.position, bs.pdf, tag, u});
+        paths.emplace_back(PathStart{view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi), 1,
+                                     bs.pdf, ShadingContext{receiver.position, receiver.shading_normal}, false});
+        rngs.push_back(rng);
+      }
+    // The tile's paths, to their ends; x_s is each path's first hit.
+    std::vector<std::optional<SurfacePoint>> x_s(paths.size());
+    rays.add(trace_paths(view, sampler, path, paths, rngs, &x_s));
+    // Per path: its sample x_s, with the target at its own pixel and the area density of x_s.
+    for (size_t k = 0; k < paths.size(); ++k) {
+      const Start& start = starts[k];
+      const vec3 L = paths[k].radiance();
+      if (!is_finite(L)) non_finite.add(1);
+      if (!x_s[k] || !is_finite(L) || max_component(L) <= 0.0f) continue;
+      const vec3 d = x_s[k]->position - start.position;
+      const float d2 = glm::dot(d, d), cos_s = std::abs(glm::dot(x_s[k]->geometric_normal, d)) / std::sqrt(d2);
+      const float p_area = start.pdf * cos_s / d2;
+      DiSample s{kSurfacePointSample, start.tag, LightPoint{x_s[k]->position, x_s[k]->geometric_normal, L, false}, 0};
+      float p_hat = di_target(di_contribution(di_receiver(domain, start.pixel), s));
+      if (!(p_area > 0.0f) || p_hat <= 0.0f) continue;
+      DiReservoir& r = out[start.pixel];
+      r.update(s, p_hat / p_area, p_hat, start.u);
+      r.finalize();
+    }
   });
 }
 
