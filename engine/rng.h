@@ -29,20 +29,46 @@ class Rng {
   static Rng for_key(uint64_t seed, uint64_t a, uint64_t b = 0, uint64_t c = 0) {
     return Rng(mix64(seed ^ mix64(a + 0x9e3779b97f4a7c15ull * (b + 1))), mix64(c + 0x632be59bd9b4e019ull * (a ^ b)));
   }
-  uint32_t next_u32() {
-    uint64_t old = state_;
-    state_ = old * 6364136223846793005ull + inc_;
+  uint32_t next_u32() { return step(state_, inc_); }
+  // Uniform float in [0, 1).
+  float next_float() { return to_float(next_u32()); }
+  // Two of them, for a 2D decision (the interface engine/sobol.h's streams share).
+  vec2 next_2d() { return vec2(next_float(), next_float()); }
+
+  // One PCG32 step of the stream (state, inc): advances state, returns the output.
+  static uint32_t step(uint64_t& state, uint64_t inc) {
+    uint64_t old = state;
+    state = old * 6364136223846793005ull + inc;
     uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
     uint32_t rot = uint32_t(old >> 59u);
     return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31));
   }
-  // Uniform float in [0, 1).
-  float next_float() { return float(next_u32() >> 8) * 0x1p-24f; }
-  // Two of them, for a 2D decision (the interface engine/sobol.h's streams share).
-  vec2 next_2d() { return vec2(next_float(), next_float()); }
+  static float to_float(uint32_t x) { return float(x >> 8) * 0x1p-24f; }
 
  private:
+  template <int>
+  friend struct RngRow;
+  struct Raw {};
+  Rng(Raw, uint64_t state, uint64_t inc) : state_(state), inc_(inc) {}
   uint64_t state_, inc_;
+};
+
+// N streams advanced together: fill() writes the next numbers of every slot's stream, the same numbers
+// next_float would give one stream at a time. One number of every slot per step, so that the slots'
+// independent multiply chains overlap (and vectorise) where one stream's numbers would each wait on the
+// last. Cost per number: one 64-bit multiply-add and a rotate, at throughput rather than latency.
+template <int N>
+struct RngRow {
+  uint64_t state[N] = {}, inc[N] = {};
+  void load(int s, const Rng& r) { state[s] = r.state_, inc[s] = r.inc_; }
+  Rng stream(int s) const { return Rng(Rng::Raw{}, state[s], inc[s]); }
+  // Numbers n in [0, count) of slots [0, slots) into out[n * N + s].
+  void fill(int count, int slots, float* __restrict out) {
+    uint64_t* __restrict states = state;  // restrict: lets the compiler vectorise the slots' loop
+    const uint64_t* __restrict increments = inc;
+    for (int n = 0; n < count; ++n)
+      for (int s = 0; s < slots; ++s) out[n * N + s] = Rng::to_float(Rng::step(states[s], increments[s]));
+  }
 };
 
 }  // namespace candela

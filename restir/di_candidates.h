@@ -59,6 +59,10 @@ struct DiCandidateBatch {
   // The light choices while they are drawn, at [slot * M_l + k]: the uniforms of the choice, the choices.
   std::vector<vec2> light_u;
   std::vector<SampledLight> chosen;
+  // The slots' random streams while the light candidates' uniforms are drawn, and those uniforms
+  // ([n * kLaneSlots + slot]); afterwards each slot's stream goes on in Slot::rng.
+  RngRow<kLaneSlots> streams;
+  std::vector<float> uniforms;
   void resize(int light_candidates, int bsdf_candidates);
   // Whether slot s drew a punctual light among its light_candidates (whose targets the lanes do not have).
   bool drew_punctual(const LightList& lights, int light_candidates, int s) const {
@@ -95,8 +99,24 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     for (int k = 0; k < K; ++k) batch.planes[size_t(k)].clear(s);
     batch.surfaces.set(s, domain.surfaces[i]);
     if (params.simd) batch.exact_surfaces.set(s, g, i);  // the exact BSDF's terms are built in lanes
+    if (b.hit) batch.streams.load(s, Rng::for_key(params.seed, i, uint64_t(frame), 0xd1));
+  }
+  // The candidates' uniforms, in the order one candidate at a time would draw them: per candidate, a tile
+  // entry and the resampling uniform, or the light choice (2), the point (2) and the resampling uniform.
+  const int per_candidate = tiles ? 2 : 5;
+  batch.uniforms.resize(size_t(K * per_candidate) * kLaneSlots);
+  batch.streams.fill(K * per_candidate, slots, batch.uniforms.data());
+  for (int s = 0; s < slots; ++s) {
+    DiCandidateBatch::Slot& b = batch.slot[s];
     if (!b.hit) continue;
-    b.rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd1);
+    const size_t i = row + size_t(s);
+    b.rng = batch.streams.stream(s);
+    const float* uniform = batch.uniforms.data() + s;  // number n at uniform[n * kLaneSlots]
+    auto next = [&uniform] {
+      const float x = *uniform;
+      uniform += kLaneSlots;
+      return x;
+    };
     const LightTiles::Tile tile = tiles ? tiles->tile(x0 + s, y, frame) : LightTiles::Tile{};
     b.ctx = tiles ? tile.ctx : ShadingContext{g.position[i], g.shading_normal[i]};  // what the density is for
     if (!params.simd) {  // the scalar reference evaluates and samples everything on the two receivers
@@ -106,18 +126,21 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     for (int k = 0; k < K; ++k) {
       const size_t at = size_t(k) * kLaneSlots + size_t(s);
       if (tiles) {  // the candidate is a tile entry, whole
-        const DiLightCandidate& c = tile.entries[std::min(int(b.rng.next_float() * float(tile.size)), tile.size - 1)];
-        batch.u[at] = b.rng.next_float();
+        const DiLightCandidate& c = tile.entries[std::min(int(next() * float(tile.size)), tile.size - 1)];
+        batch.u[at] = next();
         batch.p_light[at] = c.p_light;
         batch.light[at] = c.sample.light, batch.uv[at] = c.sample.uv;
         if (c.p_light > 0.0f && c.sample.light < view.lights.triangle_count())
           batch.planes[size_t(k)].set(s, c.sample.point);
         continue;
       }
-      // Each candidate's random numbers in the order one candidate at a time would draw them.
-      batch.light_u[size_t(s * K + k)] = vec2(b.rng.next_float(), b.rng.next_float());
-      batch.uv[at] = vec2(b.rng.next_float(), b.rng.next_float());
-      batch.u[at] = b.rng.next_float();
+      // y before x: the numbers as the scalar vec2(rng.next_float(), rng.next_float()) took them (GCC
+      // evaluates a constructor's arguments right to left), so images stay those of earlier versions.
+      const float uy = next(), ux = next();
+      batch.light_u[size_t(s * K + k)] = vec2(ux, uy);
+      const float vy = next(), vx = next();
+      batch.uv[at] = vec2(vx, vy);
+      batch.u[at] = next();
     }
     if (!tiles) prefetch_lights(sampler, b.ctx, &batch.light_u[size_t(s * K)], K);
   }
