@@ -241,11 +241,13 @@ uint64_t trace_bsdf_candidates(const SceneView& view, const GBuffer& g, const Di
 // pixel drew a punctual light, whose target the lanes do not have. Light no light technique can sample
 // (the environment, emitters below the light list's threshold) reaches the pixel only through the BSDF
 // candidates: their plain estimate of it goes to `unsampled`. With candidate_visibility, one shadow ray to
-// the kept sample. Returns the rays traced.
+// the kept sample. Writes `r` and `unsampled` whole (also where the pixel has no hit). Returns the rays traced.
 template <LightSampler S>
 uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
                              const DiParams& params, int slot, const StreamLanes* lanes, DiCandidateBatch& batch,
                              DiReservoir& r, vec3& unsampled) {
+  r = DiReservoir{};
+  unsampled = vec3(0.0f);
   DiCandidateBatch::Slot& b = batch.slot[slot];
   if (!b.hit) return 0;
   const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
@@ -310,8 +312,9 @@ template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
                            const DiParams& params, int frame, std::vector<DiReservoir>& out,
                            std::vector<vec3>& unsampled, RayCounter& rays, const LightTiles* tiles = nullptr) {
-  out.assign(g.size(), DiReservoir{});
-  unsampled.assign(g.size(), vec3(0.0f));
+  // Sized only: resample_candidates writes every pixel (in parallel, where a fill here ran on one thread).
+  out.resize(g.size());
+  unsampled.resize(g.size());
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     thread_local DiCandidateBatch batch;
     batch.resize(params.light_candidates, params.bsdf_candidates);

@@ -30,8 +30,11 @@ template <LightSampler S>
 void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
                         const GiParams& params, int frame, std::vector<DiReservoir>& out, RayCounter& rays,
                         Counter& non_finite) {
-  out.assign(g.size(), DiReservoir{});
-  if (params.max_depth < 2) return;
+  if (params.max_depth < 2) {
+    out.assign(g.size(), DiReservoir{});
+    return;
+  }
+  out.resize(g.size());  // every pixel is written below (in parallel, where a fill here ran on one thread)
   PathTracerParams path;
   path.max_depth = params.max_depth;
   path.rr_start_depth = params.rr_start_depth;
@@ -51,6 +54,7 @@ void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& 
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
         const size_t i = size_t(y) * size_t(g.width) + size_t(x);
+        out[i] = DiReservoir{};
         if (!g.hit(i)) continue;
         // One attempt, M = 1, whatever comes of it: a ray that escapes or a path that brings no light is a
         // sample of zero contribution, and counting it keeps the reuse MIS weights consistent (with M = 0
