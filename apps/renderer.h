@@ -38,8 +38,9 @@ inline DiReuseParams default_gi_reuse() {
   DiReuseParams p;
   p.min_roughness = 0.2f;
   p.max_sample_age = 30;
-  p.mis_visibility = true;  // GI samples are visible from their own pixel by construction
-  p.drop_occluded = false;  // with visibility in the weights, an occluded history sample has no weight already
+  p.mis_visibility = true;   // GI samples are visible from their own pixel by construction
+  p.drop_occluded = false;   // with visibility in the weights, an occluded history sample has no weight already
+  p.spatial_neighbours = 2;  // chosen at equal time (docs/restir.md, "Spatial neighbours and light candidates")
   return p;
 }
 
