@@ -45,6 +45,8 @@ struct SvgfParams {
   float depth_tolerance = 0.05f;    // reprojection: relative depth difference accepted beyond the expected slope
   float normal_tolerance = 0.9f;    // reprojection: least cosine between the current and previous normal
   EdgeStoppingParams edges;
+  bool simd = true;  // the temporal stage in SIMD lanes (svgf_temporal_lanes.h); false: the scalar code alone, the
+                     // reference the lanes are tested against (not a setting)
 };
 
 struct DenoiserParams {

@@ -31,7 +31,7 @@ Image Svgf::denoise(const GBuffer& current, const GBuffer& previous, const Image
       if (k == 0) history_.color = atrous_[last].color;
     }
   }
-  history_.filtered = guides_.filtered;
+  history_.filtered.assign(guides_.filtered.begin(), guides_.filtered.end());
   history_.valid = true;
   StageTimer timer(stats, "denoise_remodulate");
   return remodulate(atrous_[last].color, current, guides_, noisy);

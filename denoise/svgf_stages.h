@@ -29,7 +29,7 @@ struct SvgfMoments {
 struct SvgfHistory {
   ColorPlanes color;
   SvgfMoments moments;
-  std::vector<uint8_t> filtered;
+  std::vector<int32_t> filtered;  // 32 bits per pixel: the temporal kernel gathers it
   bool valid = false;
 };
 

@@ -1,5 +1,7 @@
 #include "denoise/svgf_stages.h"
 
+#include "denoise/svgf_temporal_lanes.h"
+
 #include "engine/check.h"
 
 namespace candela {
@@ -85,30 +87,77 @@ void svgf_temporal(const GBuffer& current, const GBuffer& previous, const Guides
   if (integrated.color.width != w || integrated.color.height != h) integrated.resize(w, h);
   if (moments.length.size() != current.size()) moments.resize(current.size());
   Reprojector reprojector{current, previous, guides, history, params};
-  for_each_row(h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      size_t i = size_t(y) * w + x;
-      vec3 c = illumination.at(i);
-      float l = luminance(c);
-      Gathered g = reproject && current.hit(i) ? reprojector.gather(i, x, y) : Gathered{};
-      float length = 1.0f;
-      if (g.weight > 0.0f) {
-        float inv = 1.0f / g.weight;
-        length = std::min(g.length * inv + 1.0f, params.max_history);
-        float alpha_c = std::max(params.alpha_color, 1.0f / length);
-        float alpha_m = std::max(params.alpha_moments, 1.0f / length);
-        c = glm::mix(g.color * inv, c, alpha_c);
-        moments.moment1[i] = glm::mix(g.moment1 * inv, l, alpha_m);
-        moments.moment2[i] = glm::mix(g.moment2 * inv, l * l, alpha_m);
-        l = luminance(c);
-      } else {
-        moments.moment1[i] = l;
-        moments.moment2[i] = l * l;
-      }
-      moments.length[i] = current.hit(i) ? length : 0.0f;
-      integrated.color.set(i, c);
-      integrated.luminance[i] = l;
+  // One pixel: its reprojected history (if any) blended with this frame's colour and moments.
+  auto integrate = [&](size_t i, int x, int y) {
+    vec3 c = illumination.at(i);
+    float l = luminance(c);
+    Gathered g = reproject && current.hit(i) ? reprojector.gather(i, x, y) : Gathered{};
+    float length = 1.0f;
+    if (g.weight > 0.0f) {
+      float inv = 1.0f / g.weight;
+      length = std::min(g.length * inv + 1.0f, params.max_history);
+      float alpha_c = std::max(params.alpha_color, 1.0f / length);
+      float alpha_m = std::max(params.alpha_moments, 1.0f / length);
+      c = glm::mix(g.color * inv, c, alpha_c);
+      moments.moment1[i] = glm::mix(g.moment1 * inv, l, alpha_m);
+      moments.moment2[i] = glm::mix(g.moment2 * inv, l * l, alpha_m);
+      l = luminance(c);
+    } else {
+      moments.moment1[i] = l;
+      moments.moment2[i] = l * l;
     }
+    moments.length[i] = current.hit(i) ? length : 0.0f;
+    integrated.color.set(i, c);
+    integrated.luminance[i] = l;
+  };
+  if (!params.simd) {
+    for_each_row(h, [&](int y) {
+      for (int x = 0; x < w; ++x) integrate(size_t(y) * w + x, x, y);
+    });
+    return;
+  }
+  // In lanes (svgf_temporal_lanes.h), which leave the pixels that need the 3x3 search to integrate().
+  TemporalPlanes planes{.width = w,
+                        .height = h,
+                        .reproject = reproject,
+                        .normal_tolerance = params.normal_tolerance,
+                        .depth_tolerance = params.depth_tolerance,
+                        .alpha_color = params.alpha_color,
+                        .alpha_moments = params.alpha_moments,
+                        .max_history = params.max_history,
+                        .instance = current.instance.data(),
+                        .normal = &current.shading_normal.data()->x,
+                        .depth = current.depth.data(),
+                        .motion = &current.motion.data()->x,
+                        .jitter = &current.jitter.data()->x,
+                        .filtered = guides.filtered.data(),
+                        .depth_slope = guides.depth_slope.data(),
+                        .r = illumination.r.data(),
+                        .g = illumination.g.data(),
+                        .b = illumination.b.data(),
+                        .out_r = integrated.color.r.data(),
+                        .out_g = integrated.color.g.data(),
+                        .out_b = integrated.color.b.data(),
+                        .out_luminance = integrated.luminance.data(),
+                        .moment1 = moments.moment1.data(),
+                        .moment2 = moments.moment2.data(),
+                        .length = moments.length.data()};
+  if (reproject) {
+    planes.prev_instance = previous.instance.data();
+    planes.prev_normal = &previous.shading_normal.data()->x;
+    planes.prev_depth = previous.depth.data();
+    planes.prev_jitter = &previous.jitter.data()->x;
+    planes.prev_filtered = history.filtered.data();
+    planes.history_r = history.color.r.data(), planes.history_g = history.color.g.data();
+    planes.history_b = history.color.b.data();
+    planes.history_m1 = history.moments.moment1.data(), planes.history_m2 = history.moments.moment2.data();
+    planes.history_length = history.moments.length.data();
+  }
+  for_each_row(h, [&](int y) {
+    thread_local std::vector<int> left;
+    left.resize(size_t(w));
+    const int count = svgf_temporal_row_lanes(planes, y, left.data());
+    for (int k = 0; k < count; ++k) integrate(size_t(y) * w + left[size_t(k)], left[size_t(k)], y);
   });
 }
 
