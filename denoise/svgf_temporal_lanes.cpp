@@ -37,7 +37,7 @@ struct Here {
 // consecutive and all taken (a still camera, or one that moved by whole pixels): 14 gathers cost ~3x as
 // much as the loads.
 struct TapReads {
-  VI q;          // the pixels (0 where not taken)
+  VI q;           // the pixels (0 where not taken)
   int64_t first;  // q's first lane where consecutive, else -1
   V at(D d, const float* plane) const {
     return first >= 0 ? hn::LoadU(d, plane + first) : hn::GatherIndex(d, plane, q);
@@ -77,7 +77,9 @@ void add_tap(D d, const TemporalPlanes& p, const Here& h, VI qx, VI qy, V w, M m
   const V expected = hn::Add(hn::Mul(h.slope, hn::Max(ay, ax)), hn::Mul(hn::Set(d, p.depth_tolerance), h.depth));
   m = hn::And(m, hn::Le(hn::Abs(hn::Sub(h.depth, read.at(d, p.prev_depth))), expected));
   if (hn::AllFalse(d, m)) return;
-  auto add = [&](V& sum, const float* plane) { sum = hn::IfThenElse(m, hn::Add(sum, hn::Mul(w, read.at(d, plane))), sum); };
+  auto add = [&](V& sum, const float* plane) {
+    sum = hn::IfThenElse(m, hn::Add(sum, hn::Mul(w, read.at(d, plane))), sum);
+  };
   add(s.r, p.history_r), add(s.g, p.history_g), add(s.b, p.history_b);
   add(s.m1, p.history_m1), add(s.m2, p.history_m2), add(s.length, p.history_length);
   s.weight = hn::IfThenElse(m, hn::Add(s.weight, w), s.weight);

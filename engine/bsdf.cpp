@@ -59,10 +59,26 @@ static float ggx_d_half_vector(const vec3& n, const vec3& hv, float alpha) {
   return d > 0.0f ? a2 * len2 * len2 / (kPi * d * d) : 0.0f;
 }
 
+// The terms eval reads of wo (s_o, ms_o, base_o) for t.cos_o > 0; returns the albedo-table entry at cos_o.
+GgxAlbedo Bsdf::eval_terms(BsdfWoTerms& t) const {
+  float a2 = alpha_ * alpha_;
+  t.s_o = std::sqrt(t.cos_o * t.cos_o * (1.0f - a2) + a2);
+  GgxAlbedo e_o = albedo_.at(t.cos_o);
+  t.ms_o = std::max(1.0f - e_o.a, 0.0f);
+  t.base_o = base_scale_ * glm::max(vec3(1.0f) - layer_albedo(e_o), vec3(0.0f));
+  return e_o;
+}
+
+// The terms pdf reads of wo (g1_o, p_specular) for t.cos_o > 0, with e_o the albedo-table entry at cos_o.
+void Bsdf::pdf_terms(BsdfWoTerms& t, const GgxAlbedo& e_o) const {
+  t.g1_o = 1.0f / (1.0f + ggx_lambda(t.cos_o, alpha_));
+  t.p_specular = specular_probability(e_o);
+}
+
 // eval and pdf need only cosines and the half vector, no change of frame: with hv = wo + wi,
 // wo.h = (1 + wo.wi) / |hv| and |hv| = sqrt(2 + 2 wo.wi).
-vec3 Bsdf::eval(const vec3& wo, const vec3& wi) const {
-  float cos_o = glm::dot(frame_.n, wo), cos_i = glm::dot(frame_.n, wi);
+vec3 Bsdf::eval(const BsdfWoTerms& t, const vec3& wo, const vec3& wi) const {
+  const float cos_o = t.cos_o, cos_i = glm::dot(frame_.n, wi);
   if (cos_o <= 0.0f || cos_i <= 0.0f) return vec3(0.0f);
   float cos_oi = glm::dot(wo, wi);
   float inv_len = 1.0f / std::sqrt(std::max(2.0f + 2.0f * cos_oi, 1e-12f));
@@ -71,25 +87,38 @@ vec3 Bsdf::eval(const vec3& wo, const vec3& wi) const {
   // G2 / (4 cos_o cos_i) with G2 = 1 / (1 + Lambda_o + Lambda_i), written without the tangents:
   // 1 + 2 Lambda(c) = sqrt(c^2 (1 - a^2) + a^2) / c, so the term is 1 / (2 (cos_i s_o + cos_o s_i)).
   float a2 = alpha_ * alpha_;
-  float s_o = std::sqrt(cos_o * cos_o * (1.0f - a2) + a2), s_i = std::sqrt(cos_i * cos_i * (1.0f - a2) + a2);
-  float visibility = 0.5f / (cos_i * s_o + cos_o * s_i);
+  float s_i = std::sqrt(cos_i * cos_i * (1.0f - a2) + a2);
+  float visibility = 0.5f / (cos_i * t.s_o + cos_o * s_i);
   vec3 single = F * (ggx_d_half_vector(frame_.n, wo + wi, alpha_) * visibility);
-  GgxAlbedo e_o = albedo_.at(cos_o), e_i = albedo_.at(cos_i);
-  vec3 multiple = ms_ * (std::max(1.0f - e_o.a, 0.0f) * std::max(1.0f - e_i.a, 0.0f));
-  vec3 base = base_scale_ * glm::max(vec3(1.0f) - layer_albedo(e_o), vec3(0.0f)) *
-              glm::max(vec3(1.0f) - layer_albedo(e_i), vec3(0.0f));
+  GgxAlbedo e_i = albedo_.at(cos_i);
+  vec3 multiple = ms_ * (t.ms_o * std::max(1.0f - e_i.a, 0.0f));
+  vec3 base = t.base_o * glm::max(vec3(1.0f) - layer_albedo(e_i), vec3(0.0f));
   return single + multiple + base;
 }
 
-float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
-  float cos_o = glm::dot(frame_.n, wo), cos_i = glm::dot(frame_.n, wi);
+vec3 Bsdf::eval(const vec3& wo, const vec3& wi) const {
+  BsdfWoTerms t;
+  t.cos_o = glm::dot(frame_.n, wo);
+  if (t.cos_o <= 0.0f || glm::dot(frame_.n, wi) <= 0.0f) return vec3(0.0f);
+  eval_terms(t);
+  return eval(t, wo, wi);
+}
+
+float Bsdf::pdf(const BsdfWoTerms& t, const vec3& wo, const vec3& wi) const {
+  const float cos_o = t.cos_o, cos_i = glm::dot(frame_.n, wi);
   if (cos_o <= 0.0f || cos_i <= 0.0f) return 0.0f;
   // Visible-normal density mapped to wi: D_wo(h) / (4 wo.h) = G1(wo) D(h) / (4 wo.z).
-  float g1 = 1.0f / (1.0f + ggx_lambda(cos_o, alpha_));
-  float pdf_spec = g1 * ggx_d_half_vector(frame_.n, wo + wi, alpha_) / (4.0f * cos_o);
+  float pdf_spec = t.g1_o * ggx_d_half_vector(frame_.n, wo + wi, alpha_) / (4.0f * cos_o);
   float pdf_diff = cos_i * kInvPi;
-  float ps = specular_probability(albedo_.at(cos_o));
-  return ps * pdf_spec + (1.0f - ps) * pdf_diff;
+  return t.p_specular * pdf_spec + (1.0f - t.p_specular) * pdf_diff;
+}
+
+float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
+  BsdfWoTerms t;
+  t.cos_o = glm::dot(frame_.n, wo);
+  if (t.cos_o <= 0.0f || glm::dot(frame_.n, wi) <= 0.0f) return 0.0f;
+  pdf_terms(t, albedo_.at(t.cos_o));
+  return pdf(t, wo, wi);
 }
 
 BsdfWoTerms Bsdf::wo_terms(const vec3& wo) const {
@@ -106,13 +135,7 @@ BsdfWoTerms Bsdf::wo_terms(const vec3& wo) const {
   t.albedo_row = albedo_.row_offset();
   t.albedo_weight = albedo_.row_weight();
   if (t.cos_o <= 0.0f) return t;
-  float a2 = alpha_ * alpha_;
-  t.s_o = std::sqrt(t.cos_o * t.cos_o * (1.0f - a2) + a2);
-  GgxAlbedo e_o = albedo_.at(t.cos_o);
-  t.ms_o = std::max(1.0f - e_o.a, 0.0f);
-  t.base_o = base_scale_ * glm::max(vec3(1.0f) - layer_albedo(e_o), vec3(0.0f));
-  t.g1_o = 1.0f / (1.0f + ggx_lambda(t.cos_o, alpha_));
-  t.p_specular = specular_probability(e_o);
+  pdf_terms(t, eval_terms(t));
   return t;
 }
 
@@ -138,14 +161,16 @@ bool sample_bsdf_direction(const Frame& frame, float alpha, const vec3& wo_world
   return wo.z > 0.0f && sample_local_direction(frame, alpha, wo, u, u_lobe, p_specular, wi_world);
 }
 
-bool Bsdf::sample(const vec3& wo_world, vec2 u, float u_lobe, BsdfSample& out) const {
-  vec3 wo = frame_.to_local(wo_world);
-  if (wo.z <= 0.0f ||
-      !sample_local_direction(frame_, alpha_, wo, u, u_lobe, specular_probability(albedo_.at(wo.z)), out.wi))
-    return false;
-  out.f = eval(wo_world, out.wi);
-  out.pdf = pdf(wo_world, out.wi);
+bool Bsdf::sample(const BsdfWoTerms& t, const vec3& wo_world, vec2 u, float u_lobe, BsdfSample& out) const {
+  vec3 wo = frame_.to_local(wo_world);  // wo.z is t.cos_o: the same products, summed in the same order
+  if (wo.z <= 0.0f || !sample_local_direction(frame_, alpha_, wo, u, u_lobe, t.p_specular, out.wi)) return false;
+  out.f = eval(t, wo_world, out.wi);
+  out.pdf = pdf(t, wo_world, out.wi);
   return out.pdf > 0.0f;
+}
+
+bool Bsdf::sample(const vec3& wo, vec2 u, float u_lobe, BsdfSample& out) const {
+  return sample(wo_terms(wo), wo, u, u_lobe, out);
 }
 
 }  // namespace candela

@@ -65,6 +65,11 @@ class Bsdf {
   BsdfWoTerms wo_terms(const vec3& wo) const;
   // u: two uniforms for the direction, u_lobe: one uniform for the lobe choice. False if no sample.
   bool sample(const vec3& wo, vec2 u, float u_lobe, BsdfSample& out) const;
+  // The same at a wo whose terms t = wo_terms(wo) are computed once for several calls (a path vertex's
+  // light sample and BSDF sample): the same bits, without recomputing the albedo lookups at wo.
+  vec3 eval(const BsdfWoTerms& t, const vec3& wo, const vec3& wi) const;
+  float pdf(const BsdfWoTerms& t, const vec3& wo, const vec3& wi) const;
+  bool sample(const BsdfWoTerms& t, const vec3& wo, vec2 u, float u_lobe, BsdfSample& out) const;
 
   const vec3& normal() const { return frame_.n; }
   float alpha() const { return alpha_; }
@@ -73,6 +78,8 @@ class Bsdf {
   // Albedo of the dielectric's specular layer (single + multiple scattering) at albedo-table entry e.
   vec3 layer_albedo(const GgxAlbedo& e) const { return d_f0_ * (e.a - e.b) + d_f90_ * e.b + d_ms_ * (1.0f - e.a); }
   float specular_probability(const GgxAlbedo& e_o) const;
+  GgxAlbedo eval_terms(BsdfWoTerms& t) const;
+  void pdf_terms(BsdfWoTerms& t, const GgxAlbedo& e_o) const;
 
   Frame frame_{vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1)};
   vec3 f0_{0.04f};               // F0 of the single-scattering lobe

@@ -46,9 +46,10 @@ inline float power_heuristic(float a, float b) {
 // Next-event estimation at one surface point up to its shadow ray: picks a light with the sampler, samples
 // a point on it and writes the shadow ray and the MIS-weighted contribution (without the path throughput)
 // that counts if the ray is not occluded. False when there is nothing to trace (no contribution possible).
+// `terms` is bsdf.wo_terms(wo).
 template <LightSampler S, class Stream>
 bool sample_direct_light(const SceneView& view, const S& sampler, const SurfacePoint& sp, const Bsdf& bsdf,
-                         const vec3& wo, Stream& rng, Ray& shadow, vec3& contribution) {
+                         const BsdfWoTerms& terms, const vec3& wo, Stream& rng, Ray& shadow, vec3& contribution) {
   ShadingContext ctx{sp.position, sp.shading_normal};
   SampledLight chosen = sampler.sample(ctx, rng.next_2d());
   vec2 u = rng.next_2d();
@@ -56,10 +57,10 @@ bool sample_direct_light(const SceneView& view, const S& sampler, const SurfaceP
   LightSample ls = view.lights.sample(view.scene, chosen.index, sp.position, u);
   if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return false;
   if (glm::dot(ls.wi, sp.geometric_normal) <= 0.0f) return false;
-  vec3 f = bsdf.eval(wo, ls.wi) * std::abs(glm::dot(ls.wi, sp.shading_normal));
+  vec3 f = bsdf.eval(terms, wo, ls.wi) * std::abs(glm::dot(ls.wi, sp.shading_normal));
   if (max_component(f) <= 0.0f) return false;
   float p_light = chosen.pmf * ls.pdf;
-  float weight = ls.is_delta ? 1.0f : power_heuristic(p_light, bsdf.pdf(wo, ls.wi));
+  float weight = ls.is_delta ? 1.0f : power_heuristic(p_light, bsdf.pdf(terms, wo, ls.wi));
   shadow = shadow_ray(view.tracer, sp.position, sp.geometric_normal, ls);
   contribution = f * ls.radiance * (weight / p_light);
   return true;
@@ -134,14 +135,15 @@ void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams
   if (st.depth >= params.max_depth) return;
 
   Bsdf bsdf = sp.bsdf();
+  const BsdfWoTerms terms = bsdf.wo_terms(wo);  // shared by the light sample's and the BSDF sample's evaluations
   vec3 contribution;
-  st.light_pending = sample_direct_light(view, sampler, sp, bsdf, wo, rng, st.shadow, contribution);
+  st.light_pending = sample_direct_light(view, sampler, sp, bsdf, terms, wo, rng, st.shadow, contribution);
   if (st.light_pending) st.light = st.beta * contribution;
 
   // Continue the path by sampling the BSDF.
   BsdfSample bs;
   vec2 u = rng.next_2d();
-  if (!bsdf.sample(wo, u, rng.next_float(), bs)) return;
+  if (!bsdf.sample(terms, wo, u, rng.next_float(), bs)) return;
   if (glm::dot(bs.wi, sp.geometric_normal) <= 0.0f) return;
   st.beta *= bs.f * (std::abs(glm::dot(bs.wi, sp.shading_normal)) / bs.pdf);
   st.prev_bsdf_pdf = bs.pdf;
