@@ -107,7 +107,7 @@ struct PathState {
 // the power heuristic against NEE's chance of the same point), draws the vertex's next-event estimate
 // (leaving its shadow ray pending) and the next ray with Russian roulette, or ends the path (alive =
 // false). `first_hit`, if given, receives the surface the start's ray hits. Reads the scene, light list
-// and sampler; draws 6-7 random numbers.
+// and sampler; draws up to 8 random numbers (4 for the light sample, 3 for the BSDF sample, 1 for roulette).
 template <LightSampler S, class Stream>
 void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams& params, PathState& st, const Hit& hit,
                  Stream& rng, std::optional<SurfacePoint>* first_hit) {
