@@ -33,10 +33,11 @@ inline float normal_power(float c) {
   return (c32 * c32) * (c32 * c32);
 }
 
+// Without an early exit, so that with lanes = kLanes (a chunk inside the image) it is one vector test.
 inline bool any_filtered(const uint8_t* filtered, size_t i0, int lanes) {
-  for (int k = 0; k < lanes; ++k)
-    if (filtered[i0 + k]) return true;
-  return false;
+  uint8_t any = 0;
+  for (int k = 0; k < lanes; ++k) any |= filtered[i0 + k];
+  return any != 0;
 }
 
 struct Tap {
@@ -66,7 +67,9 @@ struct Stencil {
 };
 
 // Filters row y, pixels [x0, x0 + kLanes) (clipped to the image), over `taps`. kBorder: some tap may
-// fall outside the image horizontally (those taps are skipped per lane; slower, not vectorised).
+// fall outside the image horizontally (those taps are skipped per lane; slower, not vectorised), or the
+// chunk may be cut by the image's right edge; without it, lanes is the constant kLanes, so that the
+// centre pixels' loads (here and in the kernel's begin) are vector loads instead of gathers.
 // Kernel: struct Chunk (its per-lane state); bool begin(Chunk&, i0, lanes) loads the centre pixels and
 // returns whether any lane needs filtering (if not, it has written the chunk's output itself);
 // float range(const Chunk&, k, q) is its term of the weight's exponent; gather(Chunk&, k, q, weight)
@@ -75,7 +78,7 @@ template <bool kBorder, class Kernel>
 void filter_chunk(const Guides& g, const EdgeStoppingParams& e, const Stencil& stencil, int y, int x0, Kernel& kernel) {
   const int w = g.width, h = g.height;
   const size_t i0 = size_t(y) * size_t(w) + size_t(x0);
-  const int lanes = std::min(kLanes, w - x0);
+  const int lanes = kBorder ? std::min(kLanes, w - x0) : kLanes;
   typename Kernel::Chunk c;
   if (!kernel.begin(c, i0, lanes)) return;
   // Centre guides; inv_d[r] = 1 / (sigma_z s_p d + eps_p) for the taps of ring r.
