@@ -29,6 +29,7 @@ class Camera {
   float view_depth(const vec3& p) const { return glm::dot(p - position_, forward_); }
   int width() const { return width_; }
   int height() const { return height_; }
+  bool operator==(const Camera&) const = default;
 
  private:
   vec3 position_{0.0f}, forward_{0.0f, 0.0f, -1.0f}, right_{1.0f, 0.0f, 0.0f}, up_{0.0f, 1.0f, 0.0f};

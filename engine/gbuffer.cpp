@@ -26,7 +26,9 @@ void GBuffer::resize(int w, int h) {
 }
 
 // Writes pixel i from a primary hit: surface attributes and the motion vector, which follows the hit
-// point through its instance's previous transform into the previous camera.
+// point through its instance's previous transform into the previous camera. Where neither the camera nor
+// the point moved, the motion is exactly 0 (projecting would give rounding noise of ~1e-4 pixels, of
+// either sign, which moves the reprojected pixel centres off the pixels: SVGF then blends 2-4 taps).
 static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_current, const Camera& camera,
                         const Camera& prev_camera, const Hit& hit, const vec3& dir, vec2 film, size_t i, GBuffer& g) {
   if (!hit.valid()) {
@@ -38,7 +40,8 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
     g.motion[i] = vec2(0.0f);
     vec2 prev_film;
     // The background is infinitely far: it moves with the camera's rotation only.
-    if (prev_camera.project(prev_camera.position() + dir, prev_film)) g.motion[i] = prev_film - film;
+    if (prev_camera != camera && prev_camera.project(prev_camera.position() + dir, prev_film))
+      g.motion[i] = prev_film - film;
     return;
   }
   SurfacePoint sp = surface_at(scene, hit.instance, hit.prim, hit.barycentric, -dir);
@@ -52,12 +55,12 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   g.emission[i] = sp.emission;
   g.instance[i] = hit.instance;
   g.prim[i] = hit.prim;
-  vec3 prev_position = scene.instances[hit.instance].animated
-                           ? transform_point(prev_from_current[hit.instance], sp.position)
-                           : sp.position;
+  const bool animated = scene.instances[hit.instance].animated;
+  vec3 prev_position = animated ? transform_point(prev_from_current[hit.instance], sp.position) : sp.position;
   // The hit lies on the ray through `film`, so `film` is its projection in this frame.
   vec2 prev_film;
-  g.motion[i] = prev_camera.project(prev_position, prev_film) ? prev_film - film : vec2(0.0f);
+  g.motion[i] = (animated || prev_camera != camera) && prev_camera.project(prev_position, prev_film) ? prev_film - film
+                                                                                                     : vec2(0.0f);
 }
 
 // Stage "rays" of a tile: one jittered primary ray per pixel (jitter from a per-pixel Rng, directions in

@@ -27,6 +27,7 @@ struct Cameras {
   V3 prev_eye, prev_forward, prev_right, prev_up;  // Camera::project of the previous camera
   V prev_tan_x, prev_tan_y, prev_width, prev_height;
   V3 environment;
+  bool still;  // the cameras are equal: only animated instances move
 };
 
 V3 broadcast(D d, const vec3& v) { return {hn::Set(d, v.x), hn::Set(d, v.y), hn::Set(d, v.z)}; }
@@ -155,7 +156,7 @@ void shade(D d, const float* records, const Cameras& c, const PrimaryHitLanes& h
   ns = select(hn::Le(dot(ns, wo), hn::Set(d, 1e-4f)), ng, ns);
 
   // write_pixel: depth, the motion vector of the point (through last frame's instance transform if animated)
-  // or, for a miss, of the direction (Camera::project of prev_eye + dir).
+  // or, for a miss, of the direction (Camera::project of prev_eye + dir); 0 where neither moved.
   const V depth = dot(sub(position, c.eye), c.forward);
   const M animated = hn::Gt(r(d, F::kAnimated), zero);
   const V3 moved = r.transform_point(d, F::kPrevFromCurrent, position);
@@ -163,6 +164,7 @@ void shade(D d, const float* records, const Cameras& c, const PrimaryHitLanes& h
   M projected;
   V prev_x, prev_y;
   project(d, c, select(hit, select(animated, moved, position), far_point), projected, prev_x, prev_y);
+  if (c.still) projected = hn::And(projected, hn::And(hit, animated));
   store_first(d, hn::IfThenElseZero(projected, hn::Sub(prev_x, film_x)),
               hn::IfThenElseZero(projected, hn::Sub(prev_y, film_y)), count, out.motion.data() + pixel);
 
@@ -215,7 +217,8 @@ void ShadeGBufferLanes(const GBufferInstances& instances, const Camera& camera, 
                   hn::Set(d, prev_camera.tan_half_y()),
                   hn::Set(d, float(prev_camera.width())),
                   hn::Set(d, float(prev_camera.height())),
-                  broadcast(d, environment)};
+                  broadcast(d, environment),
+                  camera == prev_camera};
   const int lanes = int(hn::Lanes(d));
   for (int s = 0; s < count; s += lanes)
     shade(d, instances.records.data(), c, hits, s, std::min(lanes, count - s), first_pixel + size_t(s), out);
