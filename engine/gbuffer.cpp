@@ -63,23 +63,27 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
                                                                                                      : vec2(0.0f);
 }
 
-// Stage "rays" of a tile: one jittered primary ray per pixel (jitter from a per-pixel Rng, directions in
-// lanes), traced as 4x4 packets (rtcIntersect16, coherent); writes the jitter plane and, per tile row, each
-// pixel's film position, direction and hit.
+// Stage "rays" of a tile: one jittered primary ray per pixel (jitter from the pixel's Rng stream, keyed
+// and drawn a tile row at a time; directions in lanes), traced as 4x4 packets (rtcIntersect16, coherent);
+// writes the jitter plane and, per tile row, each pixel's film position, direction and hit.
 static void trace_tile(const Tracer& tracer, const Camera& camera, const GBufferParams& params, const Tile& tile,
                        GBuffer& out, PrimaryHitLanes* rows) {
   const int w = out.width, count = tile.x1 - tile.x0;
+  RngRow<kTileWidth> streams;
+  alignas(64) float uniforms[2 * kTileWidth];
   for (int y = tile.y0; y < tile.y1; ++y) {
     PrimaryHitLanes& row = rows[y - tile.y0];
+    const size_t first = size_t(y) * size_t(w) + size_t(tile.x0);
+    if (params.jitter) {
+      streams.key(count, params.seed, first, uint64_t(params.frame), 0x6b);
+      streams.fill(2, count, uniforms);
+    }
     for (int x = tile.x0; x < tile.x1; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
-      vec2 j(0.5f);
-      if (params.jitter) {
-        Rng rng = Rng::for_key(params.seed, i, uint64_t(params.frame), 0x6b);
-        j = vec2(rng.next_float(), rng.next_float());
-      }
-      out.jitter[i] = j;
       const int s = x - tile.x0;
+      // The stream's first number is y, its second x (the order the jitter had as vec2(next, next) in GCC).
+      const vec2 j = params.jitter ? vec2(uniforms[kTileWidth + s], uniforms[s]) : vec2(0.5f);
+      out.jitter[i] = j;
       row.film[0][s] = float(x) + j.x;
       row.film[1][s] = float(y) + j.y;
       if (!params.simd) {
