@@ -41,6 +41,7 @@ inline DiReuseParams default_gi_reuse() {
   p.mis_visibility = true;   // GI samples are visible from their own pixel by construction
   p.drop_occluded = false;   // with visibility in the weights, an occluded history sample has no weight already
   p.spatial_neighbours = 2;  // chosen at equal time (docs/restir.md, "Spatial neighbours and light candidates")
+  p.neighbour_block = 1;     // shared neighbour offsets are measured for DI only (docs/restir.md, "Neighbour offsets")
   return p;
 }
 

@@ -97,6 +97,12 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
   rows.push_back(number_row(key("radius"), group, SettingType::Float, 1, 1000, field(&DiReuseParams::spatial_radius),
                             "Spatial reuse radius in pixels", methods));
   rows.back().widget_max = 64;
+  rows.push_back(number_row(key("neighbour_block"), group, SettingType::Int, 1, 64,
+                            field(&DiReuseParams::neighbour_block),
+                            "Pixels of each block this many pixels on a side share their spatial neighbours' offsets "
+                            "(1 = each pixel draws its own; larger is faster and correlates the block)",
+                            methods));
+  rows.back().widget_max = 16;
   rows.push_back(number_row(key("spatial_passes"), group, SettingType::Int, 1, 8, field(&DiReuseParams::spatial_passes),
                             "Spatial reuse passes", methods));
   rows.push_back(number_row(key("disocclusion_neighbours"), group, SettingType::Int, 0, 31,

@@ -439,12 +439,19 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     });
   }
   // Neighbours: consecutive offsets of the table from a start drawn with the pixel's random stream (one
-  // number instead of ~2.5 per neighbour and no rejection loop), scaled by the radius, and their surfaces and
-  // reservoirs prefetched.
+  // number instead of ~2.5 per neighbour and no rejection loop), or shared by the pixel's block of
+  // params.neighbour_block pixels on a side, scaled by the radius, and their surfaces and reservoirs
+  // prefetched. A shared start makes neighbouring pixels read neighbouring pixels' data.
   struct Drawn {
     bool active = false;  // the pixel takes part in reuse (a surface, rough enough)
     int count = 0;
     size_t pixels[kMaxReuseInputs];
+  };
+  const int block = std::max(params.neighbour_block, 1);
+  const int blocks_x = (width + block - 1) / block;
+  auto block_start = [&](int x, int y) {
+    const uint64_t b = uint64_t(y / block) * uint64_t(blocks_x) + uint64_t(x / block);
+    return Rng::for_key(params.seed, b, uint64_t(frame), 0xd5 + uint64_t(pass)).next_u32();
   };
   auto draw = [&](size_t i, int x, int y, Rng& rng, Drawn& d) {
     d.count = 0;
@@ -455,7 +462,8 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     const int max_inputs = 1 + std::clamp(neighbours, 0, kMaxReuseInputs - 1);
     rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
     const std::vector<vec2>& offsets = neighbour_offsets();
-    const uint32_t start = rng.next_u32();
+    const uint32_t own_start = rng.next_u32();  // drawn either way: the stream's later numbers stay the same
+    const uint32_t start = block > 1 ? block_start(x, y) : own_start;
     for (int k = 1; k < max_inputs; ++k) {
       const vec2 u = offsets[(start + uint32_t(k)) % kOffsetCount];
       int nx = x + round_nearest(params.spatial_radius * u.x), ny = y + round_nearest(params.spatial_radius * u.y);

@@ -26,6 +26,10 @@ struct DiReuseParams {
   int disocclusion_neighbours = 10;  // first pass, pixels where temporal reuse found no history: more
                                      // neighbours make up for the lost history (a disocclusion boost)
   float spatial_radius = 16.0f;      // pixels
+  int neighbour_block = 4;           // > 1: the pixels of each block this many pixels on a side take the same
+                                     // neighbour offsets (cheaper: neighbouring pixels read neighbouring data;
+                                     // unbiased, the choice ignores the samples); 4 chosen at equal time
+                                     // (docs/restir.md, "Neighbour offsets")
   int spatial_passes = 1;
   float depth_tolerance = 0.1f;   // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
