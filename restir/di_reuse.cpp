@@ -453,7 +453,8 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     const uint64_t b = uint64_t(y / block) * uint64_t(blocks_x) + uint64_t(x / block);
     return Rng::for_key(params.seed, b, uint64_t(frame), 0xd5 + uint64_t(pass)).next_u32();
   };
-  auto draw = [&](size_t i, int x, int y, Rng& rng, Drawn& d) {
+  // shared_start: the pixel's block's start (block > 1).
+  auto draw = [&](size_t i, int x, int y, uint32_t shared_start, Rng& rng, Drawn& d) {
     d.count = 0;
     d.active = surfaces[i].hit() && surfaces[i].roughness() >= params.min_roughness;
     if (!d.active) return;
@@ -463,7 +464,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
     const std::vector<vec2>& offsets = neighbour_offsets();
     const uint32_t own_start = rng.next_u32();  // drawn either way: the stream's later numbers stay the same
-    const uint32_t start = block > 1 ? block_start(x, y) : own_start;
+    const uint32_t start = block > 1 ? shared_start : own_start;
     for (int k = 1; k < max_inputs; ++k) {
       const vec2 u = offsets[(start + uint32_t(k)) % kOffsetCount];
       int nx = x + round_nearest(params.spatial_radius * u.x), ny = y + round_nearest(params.spatial_radius * u.y);
@@ -495,13 +496,20 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       ReuseRow row;
       Drawn drawn[kLaneSlots];
       Rng rng[kLaneSlots];
+      uint32_t start[kLaneSlots] = {};  // block > 1: each slot's block's start
     };
     thread_local Batch batch;
     const int slots = tile.x1 - tile.x0;
     uint64_t traced = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(width) + size_t(tile.x0);
-      for (int s = 0; s < slots; ++s) draw(first + size_t(s), tile.x0 + s, y, batch.rng[s], batch.drawn[s]);
+      // The row's blocks' starts, one draw per block (a keyed stream costs about as much as the pixel's own).
+      for (int s = 0; block > 1 && s < slots; ++s) {
+        const int x = tile.x0 + s;
+        batch.start[s] = s > 0 && x % block != 0 ? batch.start[s - 1] : block_start(x, y);
+      }
+      for (int s = 0; s < slots; ++s)
+        draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.rng[s], batch.drawn[s]);
       for (int s = 0; s < slots; ++s)
         select(first + size_t(s), batch.drawn[s], batch.row.count[s], batch.row.inputs[s]);
       traced += combine_row(view, params, slots, batch.row, batch.rng, first, in, out);
