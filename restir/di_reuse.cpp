@@ -447,6 +447,12 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     int count = 0;
     size_t pixels[kMaxReuseInputs];
   };
+  // The offset table in whole pixels at this radius, once per pass (8 KB) instead of per pixel and neighbour.
+  std::vector<glm::ivec2> pixel_offsets(kOffsetCount);
+  for (uint32_t k = 0; k < kOffsetCount; ++k) {
+    const vec2 u = neighbour_offsets()[k];
+    pixel_offsets[k] = {round_nearest(params.spatial_radius * u.x), round_nearest(params.spatial_radius * u.y)};
+  }
   const int block = std::max(params.neighbour_block, 1);
   const int blocks_x = (width + block - 1) / block;
   auto block_start = [&](int x, int y) {
@@ -462,12 +468,11 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, kMaxReuseInputs - 1);
     rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
-    const std::vector<vec2>& offsets = neighbour_offsets();
     const uint32_t own_start = rng.next_u32();  // drawn either way: the stream's later numbers stay the same
     const uint32_t start = block > 1 ? shared_start : own_start;
     for (int k = 1; k < max_inputs; ++k) {
-      const vec2 u = offsets[(start + uint32_t(k)) % kOffsetCount];
-      int nx = x + round_nearest(params.spatial_radius * u.x), ny = y + round_nearest(params.spatial_radius * u.y);
+      const glm::ivec2 o = pixel_offsets[(start + uint32_t(k)) % kOffsetCount];
+      const int nx = x + o.x, ny = y + o.y;
       if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
       size_t j = size_t(ny) * width + nx;
       __builtin_prefetch(&surfaces[j]);
