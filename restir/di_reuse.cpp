@@ -438,9 +438,9 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       rays.add(queue.traced());
     });
   }
-  // Neighbours: consecutive offsets of the table from a start drawn with the pixel's random stream (one
-  // number instead of ~2.5 per neighbour and no rejection loop), or shared by the pixel's block of
-  // params.neighbour_block pixels on a side, scaled by the radius, and their surfaces and reservoirs
+  // Neighbours: consecutive offsets of the table (scaled by the radius once per pass) from a start drawn with
+  // the pixel's random stream (one number instead of ~2.5 per neighbour and no rejection loop), or shared by
+  // the pixel's block of params.neighbour_block pixels on a side, and their surfaces and reservoirs
   // prefetched. A shared start makes neighbouring pixels read neighbouring pixels' data.
   struct Drawn {
     bool active = false;  // the pixel takes part in reuse (a surface, rough enough)
@@ -448,11 +448,11 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     size_t pixels[kMaxReuseInputs];
   };
   // The offset table in whole pixels at this radius, once per pass (8 KB) instead of per pixel and neighbour.
+  const std::vector<vec2>& offsets = neighbour_offsets();
   std::vector<glm::ivec2> pixel_offsets(kOffsetCount);
-  for (uint32_t k = 0; k < kOffsetCount; ++k) {
-    const vec2 u = neighbour_offsets()[k];
-    pixel_offsets[k] = {round_nearest(params.spatial_radius * u.x), round_nearest(params.spatial_radius * u.y)};
-  }
+  for (uint32_t k = 0; k < kOffsetCount; ++k)
+    pixel_offsets[k] = {round_nearest(params.spatial_radius * offsets[k].x),
+                        round_nearest(params.spatial_radius * offsets[k].y)};
   const int block = std::max(params.neighbour_block, 1);
   const int blocks_x = (width + block - 1) / block;
   auto block_start = [&](int x, int y) {
