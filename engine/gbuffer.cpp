@@ -29,8 +29,10 @@ void GBuffer::resize(int w, int h) {
 // point through its instance's previous transform into the previous camera. Where neither the camera nor
 // the point moved, the motion is exactly 0 (projecting would give rounding noise of ~1e-4 pixels, of
 // either sign, which moves the reprojected pixel centres off the pixels: SVGF then blends 2-4 taps).
+// `still`: camera == prev_camera.
 static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_current, const Camera& camera,
-                        const Camera& prev_camera, const Hit& hit, const vec3& dir, vec2 film, size_t i, GBuffer& g) {
+                        const Camera& prev_camera, bool still, const Hit& hit, const vec3& dir, vec2 film, size_t i,
+                        GBuffer& g) {
   if (!hit.valid()) {
     g.position[i] = g.shading_normal[i] = g.geometric_normal[i] = g.albedo[i] = vec3(0.0f);
     g.material[i] = g.specular_f0[i] = vec3(0.0f);
@@ -40,8 +42,7 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
     g.motion[i] = vec2(0.0f);
     vec2 prev_film;
     // The background is infinitely far: it moves with the camera's rotation only.
-    if (prev_camera != camera && prev_camera.project(prev_camera.position() + dir, prev_film))
-      g.motion[i] = prev_film - film;
+    if (!still && prev_camera.project(prev_camera.position() + dir, prev_film)) g.motion[i] = prev_film - film;
     return;
   }
   SurfacePoint sp = surface_at(scene, hit.instance, hit.prim, hit.barycentric, -dir);
@@ -59,8 +60,7 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   vec3 prev_position = animated ? transform_point(prev_from_current[hit.instance], sp.position) : sp.position;
   // The hit lies on the ray through `film`, so `film` is its projection in this frame.
   vec2 prev_film;
-  g.motion[i] = (animated || prev_camera != camera) && prev_camera.project(prev_position, prev_film) ? prev_film - film
-                                                                                                     : vec2(0.0f);
+  g.motion[i] = (animated || !still) && prev_camera.project(prev_position, prev_film) ? prev_film - film : vec2(0.0f);
 }
 
 // Stage "rays" of a tile: one jittered primary ray per pixel (jitter from the pixel's Rng stream, keyed
@@ -79,8 +79,8 @@ static void trace_tile(const Tracer& tracer, const Camera& camera, const GBuffer
       streams.fill(2, count, uniforms);
     }
     for (int x = tile.x0; x < tile.x1; ++x) {
-      const size_t i = size_t(y) * size_t(w) + size_t(x);
       const int s = x - tile.x0;
+      const size_t i = first + size_t(s);
       // The stream's first number is y, its second x (the order the jitter had as vec2(next, next) in GCC).
       const vec2 j = params.jitter ? vec2(uniforms[kTileWidth + s], uniforms[s]) : vec2(0.5f);
       out.jitter[i] = j;
@@ -129,6 +129,7 @@ void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camer
                    const GBufferParams& params, GBuffer& out, RayCounter& rays) {
   if (out.width != camera.width() || out.height != camera.height()) out.resize(camera.width(), camera.height());
   const GBufferInstances instances(scene);
+  const bool still = camera == prev_camera;  // then only animated instances have motion
   for_each_tile(out.width, out.height, [&](const Tile& tile) {
     // Trace every packet of the tile first, then shade: alternating Embree's traversal code with
     // shading code every 16 rays costs instruction-cache misses.
@@ -142,12 +143,12 @@ void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camer
       const size_t first = size_t(y) * size_t(out.width) + size_t(tile.x0);
       if (params.simd) {
         fetch_corners(scene, count, row);
-        shade_gbuffer_lanes(instances, camera, prev_camera, scene.environment, row, count, first, out);
+        shade_gbuffer_lanes(instances, camera, prev_camera, still, scene.environment, row, count, first, out);
       }
       for (int s = 0; s < count; ++s) {
         if (params.simd && (row.instance[s] == kNoHit || instances.plain[row.instance[s]])) continue;
         const Hit hit{0.0f, row.instance[s], row.prim[s], vec2(row.u[s], row.v[s])};
-        write_pixel(scene, instances.prev_from_current, camera, prev_camera, hit,
+        write_pixel(scene, instances.prev_from_current, camera, prev_camera, still, hit,
                     vec3(row.dir[0][s], row.dir[1][s], row.dir[2][s]), vec2(row.film[0][s], row.film[1][s]),
                     first + size_t(s), out);
       }

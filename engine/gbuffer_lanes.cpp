@@ -203,7 +203,7 @@ void CameraDirectionsLanes(const Camera& camera, int count, PrimaryHitLanes& row
   }
 }
 
-void ShadeGBufferLanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera,
+void ShadeGBufferLanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera, bool still,
                        const vec3& environment, const PrimaryHitLanes& hits, int count, size_t first_pixel,
                        GBuffer& out) {
   const D d;
@@ -218,7 +218,7 @@ void ShadeGBufferLanes(const GBufferInstances& instances, const Camera& camera, 
                   hn::Set(d, float(prev_camera.width())),
                   hn::Set(d, float(prev_camera.height())),
                   broadcast(d, environment),
-                  camera == prev_camera};
+                  still};
   const int lanes = int(hn::Lanes(d));
   for (int s = 0; s < count; s += lanes)
     shade(d, instances.records.data(), c, hits, s, std::min(lanes, count - s), first_pixel + size_t(s), out);
@@ -269,10 +269,11 @@ GBufferInstances::GBufferInstances(const Scene& scene)
   }
 }
 
-void shade_gbuffer_lanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera,
+void shade_gbuffer_lanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera, bool still,
                          const vec3& environment, const PrimaryHitLanes& hits, int count, size_t first_pixel,
                          GBuffer& out) {
-  HWY_DYNAMIC_DISPATCH(ShadeGBufferLanes)(instances, camera, prev_camera, environment, hits, count, first_pixel, out);
+  HWY_DYNAMIC_DISPATCH(ShadeGBufferLanes)
+  (instances, camera, prev_camera, still, environment, hits, count, first_pixel, out);
 }
 
 }  // namespace candela

@@ -58,9 +58,9 @@ void camera_directions_lanes(const Camera& camera, int count, PrimaryHitLanes& r
 
 // Writes pixels [first_pixel, first_pixel + count) of every G-buffer plane except `jitter` from slots
 // [0, count) of `hits` (count <= kTileWidth): surface_at's values for hits on plain materials (the caller
-// overwrites the others with surface_at), the environment for misses. ~250 flops and 40 gathers per pixel, in
-// lanes.
-void shade_gbuffer_lanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera,
+// overwrites the others with surface_at), the environment for misses; `still` (camera == prev_camera): only
+// animated instances' hits get a motion vector. ~250 flops and 40 gathers per pixel, in lanes.
+void shade_gbuffer_lanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera, bool still,
                          const vec3& environment, const PrimaryHitLanes& hits, int count, size_t first_pixel,
                          GBuffer& out);
 
