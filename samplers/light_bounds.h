@@ -17,8 +17,8 @@ namespace candela {
 struct LightBounds {
   vec3 center{0.0f};
   float radius = 0.0f;
-  vec3 w{0.0f, 0.0f, 1.0f};
-  float phi = 0.0f;  // total power (luminance)
+  vec3 w{0.0f, 0.0f, 1.0f};  // cone axis; any length (importance divides it out), unit where built
+  float phi = 0.0f;          // total power (luminance)
   float cos_theta_o = 1.0f, sin_theta_o = 0.0f;
   float cos_theta_e = 0.0f;  // 0: emits over the hemisphere around its normal (area lights)
   uint32_t two_sided = 0;
@@ -51,12 +51,9 @@ bool is_infinite_light(const LightList& lights, size_t index);
 namespace light_bounds_detail {
 inline float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
 
-// cos(max(0, a - b)) and sin(max(0, a - b)) from the sines and cosines of a and b.
+// cos(max(0, a - b)) from the sines and cosines of a and b.
 inline float cos_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
   return cos_a > cos_b ? 1.0f : cos_a * cos_b + sin_a * sin_b;
-}
-inline float sin_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
-  return cos_a > cos_b ? 0.0f : sin_a * cos_b - cos_a * sin_b;
 }
 
 }  // namespace light_bounds_detail
@@ -84,12 +81,18 @@ inline float LightBounds::importance(const ShadingContext& ctx) const {
   const float sin_b = outside ? radius * inv_dist : 0.0f;
   const float cos_b = outside ? safe_sqrt(dist2 - radius * radius) * inv_dist : -1.0f;
   // Smallest angle between an emitter's normal and a direction towards p: theta_w - theta_o - theta_b.
-  float cos_w = glm::dot(w, to_p) * inv_dist;
-  if (two_sided) cos_w = std::abs(cos_w);
+  // The tree's axes are rounded and not quite unit (wide_importance.h): cos and sin of theta_w come scaled
+  // by |w| (w_cos, w_sin); cos and sin of max(0, theta_w - theta_o) are taken on them, comparing against
+  // |w| cos theta_o and dividing by |w| after (a reciprocal computed beside the distance's), so that
+  // normalising w adds no step between the distance and the importance.
+  const float w_len = std::sqrt(glm::dot(w, w)), inv_w_len = 1.0f / w_len;
+  float w_cos = glm::dot(w, to_p) * inv_dist;
+  if (two_sided) w_cos = std::abs(w_cos);
   const vec3 w_cross = glm::cross(w, to_p);
-  const float sin_w = std::sqrt(glm::dot(w_cross, w_cross)) * inv_dist;
-  const float cos_x = cos_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
-  const float sin_x = sin_sub_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
+  const float w_sin = std::sqrt(glm::dot(w_cross, w_cross)) * inv_dist;
+  const bool within_o = w_cos > cos_theta_o * w_len;
+  const float cos_x = within_o ? 1.0f : (w_cos * cos_theta_o + w_sin * sin_theta_o) * inv_w_len;
+  const float sin_x = within_o ? 0.0f : (w_sin * cos_theta_o - w_cos * sin_theta_o) * inv_w_len;
   const float cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
   if (cos_p < cos_theta_e) return 0.0f;
   float value = power * cos_p;

@@ -9,6 +9,7 @@
 // (wide_importance.h) so that one SIMD pass gives a level's 8 importances: a third of the binary tree's
 // levels (7 instead of about 24 over 1e6 lights of builtin:manylights), each one vector evaluation.
 #include <algorithm>
+#include <atomic>
 #include <vector>
 
 #include "engine/light_sampler.h"
@@ -64,7 +65,7 @@ class LightTreeSampler {
 
  private:
   // A node: its children's bounds side by side, and what each child is: kLeaf | light index, the index of
-  // a node, or kEmpty in the slots [count, 8) (phi 0). 384 bytes: 6 cache lines.
+  // a node, or kEmpty in the slots [count, 8) (phi 0). 256 bytes: 4 cache lines.
   static constexpr uint32_t kLeaf = 0x80000000u, kEmpty = 0xffffffffu;
   struct alignas(64) Node {
     WideBounds bounds;
@@ -75,12 +76,13 @@ class LightTreeSampler {
       return n;
     }
   };
-  static_assert(sizeof(Node) == 384 && kTreeWidth == 8);
+  static_assert(sizeof(Node) == 256 && kTreeWidth == 8);
   // Builds the wide nodes from the binary tree's subtree at `node` (occupying binary nodes [node, end));
   // returns the new node's index. `up` is the parent's slot reference (node * 8 + slot).
   uint32_t collapse(const std::vector<light_tree_detail::BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up,
                     int depth);
-  LightBounds refit(const LightList& lights, uint32_t node);
+  // Returns the merged bounds of the node's children; `fits` turns false if a radius left the half range.
+  LightBounds refit(const LightList& lights, uint32_t node, std::atomic<bool>& fits);
   // The weights a level chooses a child by: the importances of the node's children for the shading point,
   // or, where all are zero (a node's bounds are looser than its children's), their powers, or 1 for each
   // child; so no path is a dead end and pmf sums to 1. Child k is taken with probability weight[k] / sum.
@@ -95,7 +97,8 @@ class LightTreeSampler {
   SampledLight descend(double u, WeightsOf&& weights_of) const;
 
   std::vector<Node> nodes_;
-  LightBounds root_;  // bounds of all finite lights
+  LightBounds root_;           // bounds of all finite lights
+  float radius_scale_ = 1.0f;  // of the nodes' radii (WideBounds)
   InfiniteLightChoice infinite_;
   std::vector<uint32_t> parent_;          // per node: the slot reference (node * 8 + slot) that points to it
   std::vector<uint32_t> subtree_lights_;  // per node: lights below it (refit's parallel split)

@@ -148,6 +148,31 @@ TEST(Samplers, TreeAfterRefitFollowsMovingLights) {
   check_sampler_at(tree, lights, std::vector<ShadingContext>(points.begin(), points.begin() + 2), 200000);
 }
 
+// One ceiling light of a 20 m room flies 200 km away: its ancestors' spheres outgrow the half-precision radii
+// at the scale the build chose (WideBounds), so the refit rebuilds the tree, which keeps every light, the far
+// one included. Fails if the refit left the slots that no longer fit empty.
+TEST(Samplers, TreeRefitRebuildsWhenALightFliesOutOfRange) {
+  Scene scene = make_manylights_scene(64, 7);
+  int moved = -1;
+  for (size_t k = 0; k < scene.instances.size() && moved < 0; ++k)
+    if (scene.material_of(uint32_t(k)).emissive()) moved = int(k);
+  ASSERT_GE(moved, 0);
+  scene.instances[moved].animated = true;
+  scene.motions.push_back({moved, scene.instances[moved].transform, vec3(2e5f, 0.0f, 0.0f), 1e6f, 0.0f});
+  LightList lights(scene);
+  LightTreeSampler tree(lights);
+  scene.set_time(1.0f);
+  lights.update(scene);
+  tree.refit(lights);
+  std::vector<ShadingContext> points = {{vec3(0.0f, 1.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f)},
+                                        {vec3(-6.0f, 0.5f, 4.0f), vec3(0.0f, 1.0f, 0.0f)}};
+  for (const TriangleLight& t : lights.triangles())
+    if (int(t.instance) == moved) points.push_back({t.p0 + vec3(0.1f, -1.0f, 0.1f), vec3(0.0f, 1.0f, 0.0f)});
+  ASSERT_GT(points.size(), 2u);
+  EXPECT_GT(testing::expect_no_dropped_lights(tree, lights, points), 100u);
+  check_sampler_at(tree, lights, points, 100000);
+}
+
 TEST(Samplers, TreeFrequenciesMatchPmf) {
   check_context_sampler<LightTreeSampler>(make_manylights_scene(256, 7), 12, 200000);
 }
@@ -269,6 +294,63 @@ TEST(Samplers, ConeMeasureMatchesItsIntegral) {
     }
 }
 
+// The tree's nodes round radii, cone axes and cosines (WideBounds::set); rounding must only loosen the
+// bounds. Over random bounds (single directions and whole spheres, radii from 0 to 1e4 times the scale's
+// 1/16, near cut-offs) and random receivers: wherever the exact bounds give a positive importance, the
+// rounded ones do too. Fails if the cone were not widened by the axis' rounding (or rounded to nearest).
+TEST(Samplers, RoundedWideBoundsKeepEveryPositiveImportance) {
+  Rng rng(37, 4);
+  auto uniform = [&](float lo, float hi) { return lo + (hi - lo) * rng.next_float(); };
+  auto unit = [&] {
+    vec3 v;
+    do v = vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+    while (glm::dot(v, v) > 1.0f || glm::dot(v, v) < 1e-4f);
+    return glm::normalize(v);
+  };
+  int positive = 0, kept = 0;
+  float worst = 0.0f;
+  for (int trial = 0; trial < 200000; ++trial) {
+    const float scale = radius_scale_for(16.0f);
+    LightBounds b;
+    b.center = vec3(uniform(-2, 2), uniform(-2, 2), uniform(-2, 2));
+    b.radius = trial % 3 == 0 ? 0.0f : std::pow(10.0f, uniform(-4.0f, 0.5f));
+    b.w = unit();
+    b.phi = uniform(0.1f, 10.0f);
+    b.set_cos_theta_o(trial % 4 == 0 ? 1.0f : std::cos(uniform(0.0f, 0.3f)));
+    b.cos_theta_e = trial % 2 ? 0.0f : uniform(-0.5f, 0.9f);
+    b.two_sided = trial % 5 == 0;
+    WideBounds wide;
+    ASSERT_TRUE(wide.set(0, b, scale));
+    const LightBounds rounded = wide.get(0, scale);
+    // Receivers near the cone's edge, where rounding decides: directions from the centre at angles around
+    // theta_o + theta_e, at distances from inside the sphere to far away.
+    const vec3 side = glm::normalize(glm::cross(b.w, std::abs(b.w.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0)));
+    const float edge = std::acos(b.cos_theta_o) + std::acos(b.cos_theta_e) + uniform(-1e-4f, 1e-4f);
+    const vec3 dir = b.w * std::cos(edge) + side * std::sin(edge);
+    const float dist = b.radius > 0.0f ? std::pow(10.0f, uniform(-3.0f, 2.0f)) : 1.0f;
+    const ShadingContext ctx{b.center + dir * dist, trial % 3 ? unit() : vec3(0.0f)};
+    if (b.importance(ctx) <= 0.0f) continue;
+    ++positive;
+    kept += rounded.importance(ctx) > 0.0f;
+    EXPECT_GT(rounded.importance(ctx), 0.0f) << "trial " << trial;
+    if (::testing::Test::HasFailure()) break;
+    // Away from the edge, rounding barely moves the importance: a receiver 0.3 radians outside theta_o
+    // (inside theta_e), where the importance follows theta_o, at 1 + 4 radii.
+    const float inside_angle = std::acos(b.cos_theta_o) + 0.3f;
+    const vec3 inside_dir = b.w * std::cos(inside_angle) + side * std::sin(inside_angle);
+    const ShadingContext inside{b.center + inside_dir * (1.0f + 4.0f * b.radius), vec3(0.0f)};
+    if (b.importance(inside) > 0.0f)
+      worst = std::max(worst, std::abs(rounded.importance(inside) / b.importance(inside) - 1.0f));
+  }
+  std::printf("  %d of %d positive importances kept; inside the cones, relative change at most %.2g\n", kept, positive,
+              worst);
+  EXPECT_GT(positive, 20000);
+  // Radii round up by at most 2^-11 of themselves, axes by 3e-5 radians, cosines by 1 / 32767, which near
+  // cos = 1 is an angle of up to sqrt(2 / 32767) = 0.008 radians (0.0024 here; widening theta_o by 0.01 in
+  // its cosine gives 0.034).
+  EXPECT_LT(worst, 5e-3f) << "the rounding should loosen the bounds, not change them";
+}
+
 // The light tree's 8-wide importance (samplers/wide_importance.h) repeats LightBounds::importance's
 // operations in the same order without fused multiply-adds, so the bound is exact equality (0 ulp) on every
 // instruction set, over random bounds: spheres of radius 0 to 4 (points inside some), cones from a single
@@ -288,8 +370,9 @@ TEST(Samplers, WideImportanceGivesTheScalarBitsOnRandomBounds) {
   for (int node = 0; node < 4000 && !::testing::Test::HasFailure(); ++node) {
     WideBounds wide;
     LightBounds scalar[kTreeWidth];
+    const float scale = radius_scale_for(node % 2 ? 4.0f : 400.0f);
     for (int k = 0; k < kTreeWidth; ++k) {
-      LightBounds& b = scalar[k];
+      LightBounds b;
       b.center = vec3(uniform(-5, 5), uniform(-5, 5), uniform(-5, 5));
       b.radius = k == 0 ? 0.0f : uniform(0.0f, 4.0f);
       b.w = unit();
@@ -297,7 +380,8 @@ TEST(Samplers, WideImportanceGivesTheScalarBitsOnRandomBounds) {
       b.set_cos_theta_o(k == 2 ? -1.0f : uniform(-1.0f, 1.0f));
       b.cos_theta_e = k == 3 ? 0.0f : uniform(-1.0f, 1.0f);
       b.two_sided = rng.next_float() < 0.3f;
-      wide.set(k, b);
+      ASSERT_TRUE(wide.set(k, b, scale));
+      scalar[k] = wide.get(k, scale);
     }
     const vec3 p = vec3(uniform(-6, 6), uniform(-6, 6), uniform(-6, 6));
     const vec3 n = node % 5 == 0 ? vec3(0.0f) : unit();
@@ -305,7 +389,7 @@ TEST(Samplers, WideImportanceGivesTheScalarBitsOnRandomBounds) {
     for_each_simd_target([&](const char* target) {
       if (node == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
       float lanes[kTreeWidth];
-      wide_importance(wide, ShadingContext{p, n, region}, lanes);
+      wide_importance(wide, ShadingContext{p, n, region}, scale, lanes);
       for (int k = 0; k < kTreeWidth; ++k) {
         const float expected = scalar[k].importance(ShadingContext{p, n, region});
         ++compared;
