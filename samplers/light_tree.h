@@ -92,7 +92,12 @@ class LightTreeSampler {
     double sum;
     int last;  // the last child with weight > 0
   };
-  void child_weights(const Node& node, const ShadingContext& ctx, ChildWeights& out) const;
+  // With fetch_children, the node's interior children are prefetched (a descent; pmf() knows its path).
+  void child_weights(const Node& node, const ShadingContext& ctx, ChildWeights& out, bool fetch_children) const;
+  static void prefetch(const Node& node) {  // all 4 lines
+    for (size_t line = 0; line < sizeof(Node); line += 64)
+      __builtin_prefetch(reinterpret_cast<const char*>(&node) + line);
+  }
   template <class WeightsOf>
   SampledLight descend(double u, WeightsOf&& weights_of) const;
 
