@@ -294,19 +294,26 @@ TEST(Samplers, ConeMeasureMatchesItsIntegral) {
     }
 }
 
-// The tree's nodes round radii, cone axes and cosines (WideBounds::set); rounding must only loosen the
-// bounds. Over random bounds (single directions and whole spheres, radii from 0 to 1e4 times the scale's
-// 1/16, near cut-offs) and random receivers: wherever the exact bounds give a positive importance, the
-// rounded ones do too. Fails if the cone were not widened by the axis' rounding (or rounded to nearest).
-TEST(Samplers, RoundedWideBoundsKeepEveryPositiveImportance) {
-  Rng rng(37, 4);
-  auto uniform = [&](float lo, float hi) { return lo + (hi - lo) * rng.next_float(); };
-  auto unit = [&] {
+// Uniform numbers and unit vectors from one stream, for the tests over random bounds below.
+struct RandomNumbers {
+  Rng rng;
+  float uniform(float lo, float hi) { return lo + (hi - lo) * rng.next_float(); }
+  vec3 unit() {
     vec3 v;
     do v = vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
     while (glm::dot(v, v) > 1.0f || glm::dot(v, v) < 1e-4f);
     return glm::normalize(v);
-  };
+  }
+};
+
+// The tree's nodes round radii, cone axes and cosines (WideBounds::set); rounding must only loosen the
+// bounds. Over random bounds (single directions and whole spheres, radii 0 and 1e-4 to 3 beside a largest
+// radius of 16, near cut-offs) and random receivers: wherever the exact bounds give a positive importance, the
+// rounded ones do too. Fails if the cone were not widened by the axis' rounding (or rounded to nearest).
+TEST(Samplers, RoundedWideBoundsKeepEveryPositiveImportance) {
+  RandomNumbers random{Rng(37, 4)};
+  auto uniform = [&](float lo, float hi) { return random.uniform(lo, hi); };
+  auto unit = [&] { return random.unit(); };
   int positive = 0, kept = 0;
   float worst = 0.0f;
   for (int trial = 0; trial < 200000; ++trial) {
@@ -357,14 +364,9 @@ TEST(Samplers, RoundedWideBoundsKeepEveryPositiveImportance) {
 // direction to the whole sphere, emission cut-offs, two-sided and powerless ones, receivers with and
 // without a normal. A kernel that fused a multiply-add or reordered a sum fails here.
 TEST(Samplers, WideImportanceGivesTheScalarBitsOnRandomBounds) {
-  Rng rng(31, 4);
-  auto uniform = [&](float lo, float hi) { return lo + (hi - lo) * rng.next_float(); };
-  auto unit = [&] {
-    vec3 v;
-    do v = vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
-    while (glm::dot(v, v) > 1.0f || glm::dot(v, v) < 1e-4f);
-    return glm::normalize(v);
-  };
+  RandomNumbers random{Rng(31, 4)};
+  auto uniform = [&](float lo, float hi) { return random.uniform(lo, hi); };
+  auto unit = [&] { return random.unit(); };
   int compared = 0, positive = 0;
   std::string targets;
   for (int node = 0; node < 4000 && !::testing::Test::HasFailure(); ++node) {
@@ -379,7 +381,7 @@ TEST(Samplers, WideImportanceGivesTheScalarBitsOnRandomBounds) {
       b.phi = k == 1 ? 0.0f : uniform(0.0f, 10.0f);
       b.set_cos_theta_o(k == 2 ? -1.0f : uniform(-1.0f, 1.0f));
       b.cos_theta_e = k == 3 ? 0.0f : uniform(-1.0f, 1.0f);
-      b.two_sided = rng.next_float() < 0.3f;
+      b.two_sided = random.rng.next_float() < 0.3f;
       ASSERT_TRUE(wide.set(k, b, scale));
       scalar[k] = wide.get(k, scale);
     }
