@@ -100,8 +100,13 @@ Rgba8Image aov_display_pixels(const Renderer& renderer, Aov aov, float exposure)
   parallel_for(0, image.height, [&](int y) {
     for (int x = 0; x < image.width; ++x) {
       size_t i = size_t(y) * image.width + x;
-      vec3 c = tonemap ? tonemap_srgb(image.pixels[i], exposure) : glm::clamp(image.pixels[i], 0.0f, 1.0f);
-      for (int k = 0; k < 3; ++k) out.pixels[4 * i + k] = uint8_t(std::lround(c[k] * 255.0f));
+      if (tonemap) {
+        const std::array<uint8_t, 3> c = tonemap_srgb8(image.pixels[i], exposure);
+        for (int k = 0; k < 3; ++k) out.pixels[4 * i + k] = c[k];
+      } else {
+        const vec3 c = glm::clamp(image.pixels[i], 0.0f, 1.0f);
+        for (int k = 0; k < 3; ++k) out.pixels[4 * i + k] = uint8_t(std::lround(c[k] * 255.0f));
+      }
       out.pixels[4 * i + 3] = 255;
     }
   });

@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <bit>
 #include <cstdio>
 #include <filesystem>
 
@@ -17,10 +18,62 @@ vec3 Image::mean() const {
 
 static float srgb_oetf(float x) { return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f; }
 
-vec3 tonemap_srgb(const vec3& linear, float exposure) {
+// The filmic curve alone, into [0, 1].
+static vec3 filmic(const vec3& linear, float exposure) {
   vec3 x = glm::max(linear * exposure * 0.6f, vec3(0.0f));
-  vec3 mapped = glm::clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
+  return glm::clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
+}
+
+vec3 tonemap_srgb(const vec3& linear, float exposure) {
+  vec3 mapped = filmic(linear, exposure);
   return {srgb_oetf(mapped.x), srgb_oetf(mapped.y), srgb_oetf(mapped.z)};
+}
+
+namespace {
+
+// lround(255 * srgb_oetf(m)) for m in [0, 1] without the power: boundary[v] is the smallest float whose code
+// is at least v, found once by bisection over the floats' bit patterns (the code never falls as m grows; a
+// test compares every float around each boundary with the formula), and start[j] is the code of j / 1024, so a
+// lookup steps up from its 1/1024 of [0, 1] through at most 4 boundaries (near 0, where the OETF is
+// steepest). Cost to build: 255 x 30 powers, once.
+struct SrgbCodes {
+  float boundary[257];
+  uint8_t start[1025];
+  static int formula(float m) { return int(std::lround(srgb_oetf(m) * 255.0f)); }
+  SrgbCodes() {
+    boundary[0] = 0.0f;
+    for (int v = 1; v <= 255; ++v) {
+      uint32_t lo = 0, hi = std::bit_cast<uint32_t>(1.0f);  // formula(hi) = 255 >= v
+      while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        if (formula(std::bit_cast<float>(mid)) >= v)
+          hi = mid;
+        else
+          lo = mid + 1;
+      }
+      boundary[v] = std::bit_cast<float>(lo);
+    }
+    boundary[256] = kInfinity;
+    for (int j = 0; j <= 1024; ++j) start[j] = uint8_t(formula(float(j) / 1024.0f));
+  }
+  uint8_t code(float m) const {
+    m = m > 0.0f ? std::min(m, 1.0f) : 0.0f;  // (NaN: 0, as lround's undefined result became)
+    int v = start[int(m * 1024.0f)];
+    while (m >= boundary[v + 1]) ++v;
+    return uint8_t(v);
+  }
+};
+
+}  // namespace
+
+uint8_t srgb8(float m) {
+  static const SrgbCodes codes;
+  return codes.code(m);
+}
+
+std::array<uint8_t, 3> tonemap_srgb8(const vec3& linear, float exposure) {
+  const vec3 mapped = filmic(linear, exposure);
+  return {srgb8(mapped.x), srgb8(mapped.y), srgb8(mapped.z)};
 }
 
 static bool has_extension(const std::string& path, const char* ext) {
@@ -60,8 +113,8 @@ void write_image(const std::string& path, const Image& image, float exposure) {
   }
   std::vector<uint8_t> srgb(image.pixels.size() * 3);
   for (size_t i = 0; i < image.pixels.size(); ++i) {
-    vec3 c = tonemap_srgb(image.pixels[i], exposure);
-    for (int k = 0; k < 3; ++k) srgb[3 * i + k] = uint8_t(std::lround(c[k] * 255.0f));
+    const std::array<uint8_t, 3> c = tonemap_srgb8(image.pixels[i], exposure);
+    for (int k = 0; k < 3; ++k) srgb[3 * i + k] = c[k];
   }
   write_atomically(path, spec, srgb.data());
 }

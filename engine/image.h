@@ -1,5 +1,6 @@
 #pragma once
 // Linear RGB images, tonemapping and atomic image files (EXR keeps linear radiance, PNG is tonemapped sRGB).
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,6 +22,12 @@ struct Image {
 
 // ACES filmic curve fitted by Narkowicz 2015 ("ACES Filmic Tone Mapping Curve"), then the sRGB OETF.
 vec3 tonemap_srgb(const vec3& linear, float exposure = 1.0f);
+// Its 8-bit codes, lround(255 * tonemap_srgb(linear, exposure)) per channel, bit for bit (PNG files and the
+// viewer's display pass).
+std::array<uint8_t, 3> tonemap_srgb8(const vec3& linear, float exposure = 1.0f);
+// The sRGB OETF's 8-bit code of a display value m in [0, 1] (clamped; NaN gives 0): lround(255 * OETF(m)),
+// found among the 255 codes' boundaries instead of by a power.
+uint8_t srgb8(float m);
 
 // Writes .exr (float, linear) or .png (8-bit tonemapped sRGB) chosen by extension. The file appears
 // atomically (written beside it under a temporary name, then renamed). Throws InputError on failure.

@@ -2,7 +2,10 @@
 // reservoirs' own, and the displayed pixels map them as the table says.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "apps/aovs.h"
@@ -57,6 +60,37 @@ TEST(Aovs, PlanesHoldTheFramesValues) {
 
 // Displayed pixels: normals as n * 0.5 + 0.5, depth and M over their largest value (so the farthest hit and
 // the largest M are white), background black; radiance tonemapped as PNG files are.
+// srgb8 finds its codes among boundaries instead of by the power: the same code as lround(255 * OETF(m))
+// for every 64th float of [0, 1] and every float of each 64-float step where the code changes, so every
+// boundary exactly; NaN, negative and large values clamp. Fails if a boundary is off by one float or the
+// start table by one code. tonemap_srgb8 is the filmic curve then srgb8 (one spot check here; the display
+// test below compares every pixel).
+TEST(Aovs, Srgb8CodesAreThoseOfThePowerFormula) {
+  // The sRGB OETF (IEC 61966-2-1) as engine/image.cpp computes it, in single precision.
+  auto formula = [](float m) {
+    const float encoded = m <= 0.0031308f ? 12.92f * m : 1.055f * std::pow(m, 1.0f / 2.4f) - 0.055f;
+    return int(std::lround(encoded * 255.0f));
+  };
+  const uint32_t one = std::bit_cast<uint32_t>(1.0f);
+  size_t compared = 0;
+  int previous = 0;
+  for (uint32_t bits = 0; bits <= one; bits += 64) {
+    const int code = formula(std::bit_cast<float>(bits));
+    const uint32_t from = code != previous ? bits - 63 : bits;  // the whole step where the code changed
+    for (uint32_t b = from; b <= bits; ++b, ++compared)
+      ASSERT_EQ(int(srgb8(std::bit_cast<float>(b))), formula(std::bit_cast<float>(b)))
+          << "m " << std::bit_cast<float>(b);
+    previous = code;
+  }
+  EXPECT_EQ(previous, 255);
+  for (float m : {-1.0f, 2.0f, std::numeric_limits<float>::infinity(), std::nanf("")})
+    EXPECT_EQ(int(srgb8(m)), m > 1.0f ? 255 : 0) << m;
+  const vec3 linear(0.02f, 0.3f, 7.0f);
+  const std::array<uint8_t, 3> codes = tonemap_srgb8(linear, 1.5f);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(int(codes[k]), int(std::lround(tonemap_srgb(linear, 1.5f)[k] * 255.0f)));
+  std::printf("  %zu values compared\n", compared);
+}
+
 TEST(Aovs, DisplayMapsAsTheTableSays) {
   const Renderer renderer = rendered(Method::RestirDi);
   const GBuffer& g = renderer.gbuffer();
