@@ -57,7 +57,7 @@ struct SrgbCodes {
     for (int j = 0; j <= 1024; ++j) start[j] = uint8_t(formula(float(j) / 1024.0f));
   }
   uint8_t code(float m) const {
-    m = m > 0.0f ? std::min(m, 1.0f) : 0.0f;  // (NaN: 0, as lround's undefined result became)
+    m = m > 0.0f ? std::min(m, 1.0f) : 0.0f;  // NaN gives 0, the byte lround's result for NaN gave on x86
     int v = start[int(m * 1024.0f)];
     while (m >= boundary[v + 1]) ++v;
     return uint8_t(v);
