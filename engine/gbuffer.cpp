@@ -78,20 +78,21 @@ static void trace_tile(const Tracer& tracer, const Camera& camera, const GBuffer
       streams.key(count, params.seed, first, uint64_t(params.frame), 0x6b);
       streams.fill(2, count, uniforms);
     }
+    // The stream's first number is y, its second x (the order the jitter had as vec2(next, next) in GCC).
+    if (params.simd) {
+      primary_rays_lanes(camera, tile.x0, y, count, params.jitter ? uniforms + kTileWidth : nullptr,
+                         params.jitter ? uniforms : nullptr, row, out.jitter.data() + first);
+      continue;
+    }
     for (int x = tile.x0; x < tile.x1; ++x) {
       const int s = x - tile.x0;
-      const size_t i = first + size_t(s);
-      // The stream's first number is y, its second x (the order the jitter had as vec2(next, next) in GCC).
       const vec2 j = params.jitter ? vec2(uniforms[kTileWidth + s], uniforms[s]) : vec2(0.5f);
-      out.jitter[i] = j;
+      out.jitter[first + size_t(s)] = j;
       row.film[0][s] = float(x) + j.x;
       row.film[1][s] = float(y) + j.y;
-      if (!params.simd) {
-        const vec3 dir = camera.direction(row.film[0][s], row.film[1][s]);
-        row.dir[0][s] = dir.x, row.dir[1][s] = dir.y, row.dir[2][s] = dir.z;
-      }
+      const vec3 dir = camera.direction(row.film[0][s], row.film[1][s]);
+      row.dir[0][s] = dir.x, row.dir[1][s] = dir.y, row.dir[2][s] = dir.z;
     }
-    if (params.simd) camera_directions_lanes(camera, count, row);
   }
   RayPacket16 packet;
   for (int by = tile.y0; by < tile.y1; by += 4) {
@@ -107,20 +108,6 @@ static void trace_tile(const Tracer& tracer, const Camera& camera, const GBuffer
         PrimaryHitLanes& row = rows[by + r - tile.y0];
         tracer.packet_hits_row4(packet, r, row.instance + s, row.prim + s, row.u + s, row.v + s);
       }
-    }
-  }
-}
-
-// Stage "corners" of a tile row: reads the meshes of the row's hits; writes each hit triangle's object-space
-// corners and vertex normals into `row` (0 where there is none). Scalar, ~20 loads per hit.
-static void fetch_corners(const Scene& scene, int count, PrimaryHitLanes& row) {
-  for (int s = 0; s < count; ++s) {
-    const Mesh* mesh = row.instance[s] == kNoHit ? nullptr : &scene.meshes[scene.instances[row.instance[s]].mesh];
-    const uvec3 tri = mesh ? mesh->triangles[row.prim[s]] : uvec3(0);
-    for (int k = 0; k < 3; ++k) {
-      const vec3 p = mesh ? mesh->positions[tri[k]] : vec3(0.0f);
-      const vec3 n = mesh && !mesh->normals.empty() ? mesh->normals[tri[k]] : vec3(0.0f);
-      for (int a = 0; a < 3; ++a) row.corner[k][a][s] = p[a], row.normal[k][a][s] = n[a];
     }
   }
 }
@@ -141,10 +128,8 @@ void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camer
     for (int y = tile.y0; y < tile.y1; ++y) {
       PrimaryHitLanes& row = rows[y - tile.y0];
       const size_t first = size_t(y) * size_t(out.width) + size_t(tile.x0);
-      if (params.simd) {
-        fetch_corners(scene, count, row);
+      if (params.simd)
         shade_gbuffer_lanes(instances, camera, prev_camera, still, scene.environment, row, count, first, out);
-      }
       for (int s = 0; s < count; ++s) {
         if (params.simd && (row.instance[s] == kNoHit || instances.plain[row.instance[s]])) continue;
         const Hit hit{0.0f, row.instance[s], row.prim[s], vec2(row.u[s], row.v[s])};

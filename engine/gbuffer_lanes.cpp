@@ -112,9 +112,38 @@ void store_first(D d, V x, V y, int n, vec2* dst) {
   std::memcpy(dst, buffer, sizeof(vec2) * size_t(n));
 }
 
+// The hit triangles' object-space corners p[k] and vertex normals n[k] (0 where the mesh has none, and in lanes
+// without a hit), world_triangle's and surface_at's inputs. Loaded once per distinct triangle of the vector and
+// broadcast into the lanes that hit it: neighbouring pixels mostly see one triangle, so this is ~20 scalar
+// loads and ~40 vector operations per triangle rather than per lane.
+void triangle_corners(D d, const GBufferInstances& instances, const PrimaryHitLanes& h, int s, VU instance, M hit,
+                      V3 p[3], V3 n[3]) {
+  const DU du;
+  const VU prim = hn::Load(du, h.prim + s);
+  for (int k = 0; k < 3; ++k) p[k] = n[k] = V3{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+  for (M todo = hit; !hn::AllFalse(d, todo);) {
+    const size_t lane = hn::FindKnownFirstTrue(d, todo);
+    const uint32_t i = h.instance[size_t(s) + lane], t = h.prim[size_t(s) + lane];
+    const M same = hn::RebindMask(d, hn::And(hn::Eq(instance, hn::Set(du, i)), hn::Eq(prim, hn::Set(du, t))));
+    const GBufferInstances::MeshArrays& a = instances.meshes[i];
+    const uint32_t* tri = a.triangles + size_t(t) * 3;
+    for (int k = 0; k < 3; ++k) {
+      const float* corner = a.positions + size_t(tri[k]) * 3;
+      p[k] = {hn::IfThenElse(same, hn::Set(d, corner[0]), p[k].x), hn::IfThenElse(same, hn::Set(d, corner[1]), p[k].y),
+              hn::IfThenElse(same, hn::Set(d, corner[2]), p[k].z)};
+      if (!a.normals) continue;
+      const float* normal = a.normals + size_t(tri[k]) * 3;
+      n[k] = {hn::IfThenElse(same, hn::Set(d, normal[0]), n[k].x), hn::IfThenElse(same, hn::Set(d, normal[1]), n[k].y),
+              hn::IfThenElse(same, hn::Set(d, normal[2]), n[k].z)};
+    }
+    todo = hn::AndNot(same, todo);
+  }
+}
+
 // One vector of slots [s, s + lanes): writes the first `count` of them to pixels [pixel, pixel + n).
-void shade(D d, const float* records, const Cameras& c, const PrimaryHitLanes& h, int s, int count, size_t pixel,
-           GBuffer& out) {
+void shade(D d, const GBufferInstances& instances, const Cameras& c, const PrimaryHitLanes& h, int s, int count,
+           size_t pixel, GBuffer& out) {
+  const float* records = instances.records.data();
   const DI di;
   const DU du;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
@@ -135,10 +164,8 @@ void shade(D d, const float* records, const Cameras& c, const PrimaryHitLanes& h
 
   // world_triangle: the corners in world space.
   V3 p[3], vn[3];
-  for (int k = 0; k < 3; ++k) {
-    p[k] = r.transform_point(d, F::kTransform, load3(d, h.corner[k][0], h.corner[k][1], h.corner[k][2], s));
-    vn[k] = load3(d, h.normal[k][0], h.normal[k][1], h.normal[k][2], s);
-  }
+  triangle_corners(d, instances, h, s, instance, hit, p, vn);
+  for (int k = 0; k < 3; ++k) p[k] = r.transform_point(d, F::kTransform, p[k]);
   // surface_at: position, the front face's normal, the side wo sees.
   const V w = hn::Sub(hn::Sub(one, u), v);
   const V3 position = interpolate(p[0], p[1], p[2], w, u, v);
@@ -157,16 +184,23 @@ void shade(D d, const float* records, const Cameras& c, const PrimaryHitLanes& h
 
   // write_pixel: depth, the motion vector of the point (through last frame's instance transform if animated)
   // or, for a miss, of the direction (Camera::project of prev_eye + dir); 0 where neither moved.
+  // Skipped where nothing moves: a still camera and no animated hit (most vectors of most frames).
   const V depth = dot(sub(position, c.eye), c.forward);
-  const M animated = hn::Gt(r(d, F::kAnimated), zero);
-  const V3 moved = r.transform_point(d, F::kPrevFromCurrent, position);
-  const V3 far_point{hn::Add(c.prev_eye.x, dir.x), hn::Add(c.prev_eye.y, dir.y), hn::Add(c.prev_eye.z, dir.z)};
-  M projected;
-  V prev_x, prev_y;
-  project(d, c, select(hit, select(animated, moved, position), far_point), projected, prev_x, prev_y);
-  if (c.still) projected = hn::And(projected, hn::And(hit, animated));
-  store_first(d, hn::IfThenElseZero(projected, hn::Sub(prev_x, film_x)),
-              hn::IfThenElseZero(projected, hn::Sub(prev_y, film_y)), count, out.motion.data() + pixel);
+  const M animated = hn::And(hit, hn::Gt(r(d, F::kAnimated), zero));
+  const bool any_animated = !hn::AllFalse(d, animated);
+  V motion_x = zero, motion_y = zero;
+  if (!c.still || any_animated) {
+    const V3 moved =
+        any_animated ? select(animated, r.transform_point(d, F::kPrevFromCurrent, position), position) : position;
+    const V3 far_point{hn::Add(c.prev_eye.x, dir.x), hn::Add(c.prev_eye.y, dir.y), hn::Add(c.prev_eye.z, dir.z)};
+    M projected;
+    V prev_x, prev_y;
+    project(d, c, select(hit, moved, far_point), projected, prev_x, prev_y);
+    if (c.still) projected = hn::And(projected, animated);
+    motion_x = hn::IfThenElseZero(projected, hn::Sub(prev_x, film_x));
+    motion_y = hn::IfThenElseZero(projected, hn::Sub(prev_y, film_y));
+  }
+  store_first(d, motion_x, motion_y, count, out.motion.data() + pixel);
 
   // surface_at: the material's constants; emission on the front side or both (kEmission is 0 unless it emits).
   const V3 emission = zero_unless(hn::Or(front, hn::Gt(r(d, F::kDoubleSided), zero)), r.vec3_at(d, F::kEmission));
@@ -184,17 +218,29 @@ void shade(D d, const float* records, const Cameras& c, const PrimaryHitLanes& h
               out.prim.data() + pixel);
 }
 
-// Camera::direction: normalize(forward + right ((2x / width - 1) tan_x) - up ((2y / height - 1) tan_y)).
-void CameraDirectionsLanes(const Camera& camera, int count, PrimaryHitLanes& row) {
+// Film positions (the pixel plus its jitter) and Camera::direction through them: normalize(forward +
+// right ((2x / width - 1) tan_x) - up ((2y / height - 1) tan_y)).
+void PrimaryRaysLanes(const Camera& camera, int x0, int y, int count, const float* jitter_x, const float* jitter_y,
+                      PrimaryHitLanes& row, vec2* jitter) {
   const D d;
-  const V two = hn::Set(d, 2.0f), one = hn::Set(d, 1.0f);
+  const DI di;
+  const V two = hn::Set(d, 2.0f), one = hn::Set(d, 1.0f), half = hn::Set(d, 0.5f), row_y = hn::Set(d, float(y));
   const V width = hn::Set(d, float(camera.width())), height = hn::Set(d, float(camera.height()));
   const V tan_x = hn::Set(d, camera.tan_half_x()), tan_y = hn::Set(d, camera.tan_half_y());
   const V3 forward = broadcast(d, camera.forward()), right = broadcast(d, camera.right()),
            up = broadcast(d, camera.up());
-  for (int s = 0; s < count; s += int(hn::Lanes(d))) {
-    const V a = hn::Mul(hn::Sub(hn::Div(hn::Mul(two, hn::Load(d, row.film[0] + s)), width), one), tan_x);
-    const V b = hn::Mul(hn::Sub(hn::Div(hn::Mul(two, hn::Load(d, row.film[1] + s)), height), one), tan_y);
+  const int lanes = int(hn::Lanes(d));
+  for (int s = 0; s < count; s += lanes) {
+    const int n = std::min(lanes, count - s);
+    const M valid = hn::FirstN(d, size_t(n));
+    const V jx = jitter_x ? hn::IfThenElseZero(valid, hn::Load(d, jitter_x + s)) : half;
+    const V jy = jitter_y ? hn::IfThenElseZero(valid, hn::Load(d, jitter_y + s)) : half;
+    store_first(d, jx, jy, n, jitter + s);
+    const V film_x = hn::Add(hn::ConvertTo(d, hn::Iota(di, x0 + s)), jx), film_y = hn::Add(row_y, jy);
+    hn::Store(film_x, d, row.film[0] + s);
+    hn::Store(film_y, d, row.film[1] + s);
+    const V a = hn::Mul(hn::Sub(hn::Div(hn::Mul(two, film_x), width), one), tan_x);
+    const V b = hn::Mul(hn::Sub(hn::Div(hn::Mul(two, film_y), height), one), tan_y);
     auto axis = [&](V f, V r, V u) { return hn::Sub(hn::Add(f, hn::Mul(r, a)), hn::Mul(u, b)); };
     store3(
         d,
@@ -221,7 +267,7 @@ void ShadeGBufferLanes(const GBufferInstances& instances, const Camera& camera, 
                   still};
   const int lanes = int(hn::Lanes(d));
   for (int s = 0; s < count; s += lanes)
-    shade(d, instances.records.data(), c, hits, s, std::min(lanes, count - s), first_pixel + size_t(s), out);
+    shade(d, instances, c, hits, s, std::min(lanes, count - s), first_pixel + size_t(s), out);
 }
 
 }  // namespace HWY_NAMESPACE
@@ -232,14 +278,16 @@ HWY_AFTER_NAMESPACE();
 namespace candela {
 
 HWY_EXPORT(ShadeGBufferLanes);
-HWY_EXPORT(CameraDirectionsLanes);
+HWY_EXPORT(PrimaryRaysLanes);
 
-void camera_directions_lanes(const Camera& camera, int count, PrimaryHitLanes& row) {
-  HWY_DYNAMIC_DISPATCH(CameraDirectionsLanes)(camera, count, row);
+void primary_rays_lanes(const Camera& camera, int x0, int y, int count, const float* jitter_x, const float* jitter_y,
+                        PrimaryHitLanes& row, vec2* jitter) {
+  HWY_DYNAMIC_DISPATCH(PrimaryRaysLanes)(camera, x0, y, count, jitter_x, jitter_y, row, jitter);
 }
 
 GBufferInstances::GBufferInstances(const Scene& scene)
     : records(std::max<size_t>(scene.instances.size(), 1) * kFields, 0.0f),
+      meshes(scene.instances.size()),
       prev_from_current(scene.instances.size(), mat4(1.0f)),
       plain(scene.instances.size(), 0) {
   for (size_t k = 0; k < scene.instances.size(); ++k) {
@@ -247,6 +295,8 @@ GBufferInstances::GBufferInstances(const Scene& scene)
     const Mesh& mesh = scene.meshes[inst.mesh];
     const Material& m = scene.materials[mesh.material];
     if (inst.animated) prev_from_current[k] = inst.prev_transform * glm::inverse(inst.transform);
+    meshes[k] = {&mesh.triangles.data()->x, &mesh.positions.data()->x,
+                 mesh.normals.empty() ? nullptr : &mesh.normals.data()->x};
     float* r = records.data() + k * kFields;
     auto put = [&](int field, const float* values, int count) { std::copy(values, values + count, r + field); };
     for (int c = 0; c < 4; ++c) put(kTransform + 3 * c, &inst.transform[c].x, 3);

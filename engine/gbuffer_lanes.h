@@ -14,7 +14,8 @@
 namespace candela {
 
 // What shading a primary hit reads of its instance, gathered once per frame: per instance, one record of
-// kFields floats that the kernel gathers by instance index, and the transforms the scalar path reads.
+// kFields floats that the kernel gathers by instance index, the arrays of its mesh, and the transforms the
+// scalar path reads.
 struct GBufferInstances {
   enum Field : int {
     kTransform = 0,         // mat4 columns 0..3, rows 0..2
@@ -32,34 +33,40 @@ struct GBufferInstances {
     kHasNormals = 48,   // 1: the mesh has vertex normals
     kFields = 49,
   };
+  // An instance's mesh as flat arrays: 3 vertex indices per triangle, 3 floats per vertex.
+  struct MeshArrays {
+    const uint32_t* triangles = nullptr;
+    const float* positions = nullptr;
+    const float* normals = nullptr;  // null: the mesh has no vertex normals
+  };
   // Reads the scene's instances, meshes and materials. O(instances).
   explicit GBufferInstances(const Scene& scene);
   std::vector<float> records;           // kFields per instance (one zero record when there are none)
+  std::vector<MeshArrays> meshes;       // per instance
   std::vector<mat4> prev_from_current;  // identity for static instances
   std::vector<uint8_t> plain;           // 1: the material has no textures, the kernel's values are final
 };
 
-// Primary hits of one tile row in pixel order (slot s is pixel x0 + s) with the object-space corners and
-// vertex normals of each hit triangle (fetched from the meshes by the caller, 0 where there is no hit or
-// no vertex normal).
+// Primary rays and hits of one tile row in pixel order (slot s is pixel x0 + s).
 struct PrimaryHitLanes {
   alignas(64) uint32_t instance[kTileWidth];  // kNoHit where the ray missed
   alignas(64) uint32_t prim[kTileWidth];
   alignas(64) float u[kTileWidth], v[kTileWidth];  // Embree's barycentrics
   alignas(64) float dir[3][kTileWidth];            // unit ray direction
   alignas(64) float film[2][kTileWidth];           // film position of the ray (pixels)
-  alignas(64) float corner[3][3][kTileWidth];      // [corner][axis], object space
-  alignas(64) float normal[3][3][kTileWidth];      // [corner][axis], object space
 };
 
-// Slots [0, count) of row.dir: the camera's unit direction through each film position (Camera::direction's
-// bits). ~20 flops per pixel, in lanes.
-void camera_directions_lanes(const Camera& camera, int count, PrimaryHitLanes& row);
+// Slots [0, count) of the row of pixels (x0 + s, y): row.film = the pixel plus its jitter (jitter_x[s],
+// jitter_y[s]; the pixel centre where jitter_x is null), row.dir = Camera::direction's bits through it, and
+// jitter[s] = the jitter. ~20 flops per pixel, in lanes.
+void primary_rays_lanes(const Camera& camera, int x0, int y, int count, const float* jitter_x, const float* jitter_y,
+                        PrimaryHitLanes& row, vec2* jitter);
 
 // Writes pixels [first_pixel, first_pixel + count) of every G-buffer plane except `jitter` from slots
 // [0, count) of `hits` (count <= kTileWidth): surface_at's values for hits on plain materials (the caller
 // overwrites the others with surface_at), the environment for misses; `still` (camera == prev_camera): only
-// animated instances' hits get a motion vector. ~250 flops and 40 gathers per pixel, in lanes.
+// animated instances' hits get a motion vector. ~250 flops per pixel in lanes, and ~20 scalar loads per distinct
+// triangle of each vector.
 void shade_gbuffer_lanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera, bool still,
                          const vec3& environment, const PrimaryHitLanes& hits, int count, size_t first_pixel,
                          GBuffer& out);
