@@ -11,20 +11,34 @@
 
 namespace candela {
 
+// Allocates on 64-byte boundaries, so that a whole vector of 16 pixels' values is one or more whole cache lines.
+template <class T>
+struct CacheLineAllocator {
+  using value_type = T;
+  CacheLineAllocator() = default;
+  template <class U>
+  CacheLineAllocator(const CacheLineAllocator<U>&) {}
+  T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(64))); }
+  void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(64)); }
+  friend bool operator==(const CacheLineAllocator&, const CacheLineAllocator&) { return true; }
+};
+template <class T>
+using Plane = std::vector<T, CacheLineAllocator<T>>;
+
 struct GBuffer {
   int width = 0, height = 0;
-  std::vector<vec3> position;
-  std::vector<vec3> shading_normal;
-  std::vector<vec3> geometric_normal;
-  std::vector<float> depth;       // linear view depth; kInfinity where nothing was hit
-  std::vector<vec3> albedo;       // base colour
-  std::vector<vec3> material;     // roughness, metallic, specular factor
-  std::vector<vec3> specular_f0;  // the dielectric's F0
-  std::vector<vec3> emission;
-  std::vector<uint32_t> instance;  // kNoHit where nothing was hit
-  std::vector<uint32_t> prim;
-  std::vector<vec2> motion;  // pixels from this frame's film position to last frame's
-  std::vector<vec2> jitter;  // film position of the primary ray within its pixel, in [0,1)^2
+  Plane<vec3> position;
+  Plane<vec3> shading_normal;
+  Plane<vec3> geometric_normal;
+  Plane<float> depth;       // linear view depth; kInfinity where nothing was hit
+  Plane<vec3> albedo;       // base colour
+  Plane<vec3> material;     // roughness, metallic, specular factor
+  Plane<vec3> specular_f0;  // the dielectric's F0
+  Plane<vec3> emission;
+  Plane<uint32_t> instance;  // kNoHit where nothing was hit
+  Plane<uint32_t> prim;
+  Plane<vec2> motion;  // pixels from this frame's film position to last frame's
+  Plane<vec2> jitter;  // film position of the primary ray within its pixel, in [0,1)^2
 
   void resize(int w, int h);
   size_t size() const { return size_t(width) * height; }

@@ -6,6 +6,8 @@
 #define HWY_TARGET_INCLUDE "engine/gbuffer_lanes.cpp"
 #include <cstring>
 
+#include "hwy/cache_control.h"
+
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 #include "engine/lanes-inl.h"
@@ -90,25 +92,35 @@ void project(D d, const Cameras& c, const V3& p, M& valid, V& film_x, V& film_y)
   film_y = hn::Mul(hn::Mul(hn::Sub(one, sy), half), c.prev_height);
 }
 
-// Stores lanes [0, n) of each vector at dst (n <= lanes): straight into the plane for a whole vector, through
-// a buffer for the last part of a row.
+// Stores lanes [0, n) of each vector at dst (n <= lanes): a whole vector at an aligned address (the planes are
+// cache-line aligned) as streaming stores, which skip reading the lines they overwrite; a part of a row
+// through a buffer.
 template <class T, class Vec, class Tag>
 void store_first(Tag t, Vec v, int n, T* dst) {
-  if (n == int(hn::Lanes(t))) return hn::StoreU(v, t, dst);
+  if (n == int(hn::Lanes(t))) {
+    if (reinterpret_cast<uintptr_t>(dst) % (sizeof(T) * hn::Lanes(t)) == 0) return hn::Stream(v, t, dst);
+    return hn::StoreU(v, t, dst);
+  }
   HWY_ALIGN T buffer[16];
   hn::Store(v, t, buffer);
   std::memcpy(dst, buffer, sizeof(T) * size_t(n));
 }
+// The same for `count` floats already in an aligned buffer.
+void stream_floats(D d, const float* buffer, size_t count, float* dst) {
+  if (reinterpret_cast<uintptr_t>(dst) % (sizeof(float) * hn::Lanes(d)) != 0)
+    return (void)std::memcpy(dst, buffer, sizeof(float) * count);
+  for (size_t k = 0; k < count; k += hn::Lanes(d)) hn::Stream(hn::Load(d, buffer + k), d, dst + k);
+}
 void store_first(D d, const V3& v, int n, vec3* dst) {
-  if (n == int(hn::Lanes(d))) return hn::StoreInterleaved3(v.x, v.y, v.z, d, &dst->x);
   HWY_ALIGN float buffer[48];
   hn::StoreInterleaved3(v.x, v.y, v.z, d, buffer);
+  if (n == int(hn::Lanes(d))) return stream_floats(d, buffer, 3 * size_t(n), &dst->x);
   std::memcpy(dst, buffer, sizeof(vec3) * size_t(n));
 }
 void store_first(D d, V x, V y, int n, vec2* dst) {
-  if (n == int(hn::Lanes(d))) return hn::StoreInterleaved2(x, y, d, &dst->x);
   HWY_ALIGN float buffer[32];
   hn::StoreInterleaved2(x, y, d, buffer);
+  if (n == int(hn::Lanes(d))) return stream_floats(d, buffer, 2 * size_t(n), &dst->x);
   std::memcpy(dst, buffer, sizeof(vec2) * size_t(n));
 }
 
@@ -268,6 +280,7 @@ void ShadeGBufferLanes(const GBufferInstances& instances, const Camera& camera, 
   const int lanes = int(hn::Lanes(d));
   for (int s = 0; s < count; s += lanes)
     shade(d, instances, c, hits, s, std::min(lanes, count - s), first_pixel + size_t(s), out);
+  hwy::FlushStream();  // the streaming stores are seen before any later store
 }
 
 }  // namespace HWY_NAMESPACE

@@ -127,7 +127,7 @@ TEST(GBuffer, MotionVectorsFollowMovingInstances) {
 
 // How many pixels of plane `a` differ from `b` in any bit.
 template <class T>
-int differing_pixels(const std::vector<T>& a, const std::vector<T>& b) {
+int differing_pixels(const Plane<T>& a, const Plane<T>& b) {
   int differ = 0;
   for (size_t i = 0; i < a.size(); ++i) differ += std::memcmp(&a[i], &b[i], sizeof(T)) != 0;
   return differ;
