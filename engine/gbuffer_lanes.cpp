@@ -47,14 +47,13 @@ V3 interpolate(const V3& a, const V3& b, const V3& c, V w, V u, V v) {
   return {one(a.x, b.x, c.x), one(a.y, b.y, c.y), one(a.z, b.z, c.z)};
 }
 
-// The instance records' fields for every lane: one broadcast where all hit lanes share an instance (most
-// vectors: neighbouring pixels see the same object), gathers otherwise.
+// The instance records' fields for every lane: one broadcast per field where the vector's hits share an
+// instance (most vectors: neighbouring pixels see the same object), else a table of lanes per field.
 struct Records {
-  const float* records;
-  VI base;               // lane's record offset (0 for misses)
-  const float* uniform;  // the hit lanes' common record, or null
+  const float* uniform;  // the hits' common record, or null: read `table`
+  const float* table;    // kFields vectors: field k of each lane's record (0 in lanes without a hit)
   V operator()(D d, int k) const {
-    return uniform ? hn::Set(d, uniform[k]) : hn::GatherIndex(d, records, hn::Add(base, hn::Set(DI(), k)));
+    return uniform ? hn::Set(d, uniform[k]) : hn::Load(d, table + size_t(k) * hn::Lanes(d));
   }
   V3 vec3_at(D d, int k) const { return {(*this)(d, k), (*this)(d, k + 1), (*this)(d, k + 2)}; }
   // transform_point: row r of m * vec4(p, 1) as glm evaluates it, (m0 x + m1 y) + (m2 z + m3 * 1).
@@ -75,6 +74,32 @@ struct Records {
     return {row(0), row(1), row(2)};
   }
 };
+// The Records of a vector of hits: finds the vector's distinct instances (a scan per instance); where there is
+// more than one, fills `table` (kFields vectors) with each field blended from their records, ~2 operations per
+// field and instance instead of a gather per field read.
+Records instance_records(D d, const float* records, const uint32_t* lane_instance, VU instance, M hit, float* table) {
+  const DU du;
+  constexpr int kMax = HWY_MAX_BYTES / sizeof(float);
+  uint32_t ids[kMax];
+  M masks[kMax];
+  int distinct = 0;
+  for (M todo = hit; !hn::AllFalse(d, todo); ++distinct) {
+    ids[distinct] = lane_instance[hn::FindKnownFirstTrue(d, todo)];
+    masks[distinct] = hn::RebindMask(d, hn::Eq(instance, hn::Set(du, ids[distinct])));
+    todo = hn::AndNot(masks[distinct], todo);
+  }
+  // No hit: any record will do, no plane keeps its fields.
+  if (distinct <= 1) return {records + size_t(distinct == 1 ? ids[0] : 0) * GBufferInstances::kFields, nullptr};
+  for (int k = 0; k < GBufferInstances::kFields; ++k) {
+    V field = hn::Zero(d);
+    for (int j = 0; j < distinct; ++j)
+      field =
+          hn::IfThenElse(masks[j], hn::Set(d, records[size_t(ids[j]) * GBufferInstances::kFields + size_t(k)]), field);
+    hn::Store(field, d, table + size_t(k) * hn::Lanes(d));
+  }
+  return {nullptr, table};
+}
+
 M is_finite(D d, const V3& v) {
   const V inf = hn::Set(d, kInfinity);
   return hn::And(hn::And(hn::Lt(hn::Abs(v.x), inf), hn::Lt(hn::Abs(v.y), inf)), hn::Lt(hn::Abs(v.z), inf));
@@ -155,20 +180,13 @@ void triangle_corners(D d, const GBufferInstances& instances, const PrimaryHitLa
 // One vector of slots [s, s + lanes): writes the first `count` of them to pixels [pixel, pixel + n).
 void shade(D d, const GBufferInstances& instances, const Cameras& c, const PrimaryHitLanes& h, int s, int count,
            size_t pixel, GBuffer& out) {
-  const float* records = instances.records.data();
-  const DI di;
   const DU du;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   const VU no_hit = hn::Set(du, kNoHit);
   const VU instance = hn::IfThenElse(hn::FirstN(du, size_t(count)), hn::Load(du, h.instance + s), no_hit);
   const M hit = hn::RebindMask(d, hn::Ne(instance, no_hit));
-  const uint32_t first = h.instance[s];
-  const bool uniform =
-      first != kNoHit && hn::AllTrue(du, hn::Or(hn::Eq(instance, no_hit), hn::Eq(instance, hn::Set(du, first))));
-  const Records r{records,
-                  hn::Mul(hn::IfThenElseZero(hn::RebindMask(di, hit), hn::BitCast(di, instance)),
-                          hn::Set(di, int(GBufferInstances::kFields))),
-                  uniform ? records + size_t(first) * GBufferInstances::kFields : nullptr};
+  HWY_ALIGN float table[GBufferInstances::kFields * (HWY_MAX_BYTES / sizeof(float))];
+  const Records r = instance_records(d, instances.records.data(), h.instance + s, instance, hit, table);
   const V u = hn::Load(d, h.u + s), v = hn::Load(d, h.v + s);
   const V3 dir = load3(d, h.dir[0], h.dir[1], h.dir[2], s);
   const V film_x = hn::Load(d, h.film[0] + s), film_y = hn::Load(d, h.film[1] + s);

@@ -55,13 +55,19 @@ void RayPacket16::set(int lane, const Ray& ray) {
 }
 
 void RayPacket16::set_row4(int r, const vec3& origin, const float* dx, const float* dy, const float* dz, int n) {
-  const int first = 4 * r;
-  std::memcpy(rayhit.ray.dir_x + first, dx, 4 * sizeof(float));
-  std::memcpy(rayhit.ray.dir_y + first, dy, 4 * sizeof(float));
-  std::memcpy(rayhit.ray.dir_z + first, dz, 4 * sizeof(float));
-  for (int lane = first; lane < first + 4; ++lane) {
-    start(lane, origin, 0.0f, kInfinity);
-    if (lane >= first + n) set_inactive(lane);
+  // start()'s fields written field by field from locals, so that each field is one 4-wide store (through the
+  // pointers the compiler would have to assume every store may change origin and the directions).
+  const float ox = origin.x, oy = origin.y, oz = origin.z;
+  float x[4], y[4], z[4];
+  std::memcpy(x, dx, sizeof x), std::memcpy(y, dy, sizeof y), std::memcpy(z, dz, sizeof z);
+  RTCRay16& ray = rayhit.ray;
+  for (int k = 0, lane = 4 * r; k < 4; ++k, ++lane) {
+    ray.org_x[lane] = ox, ray.org_y[lane] = oy, ray.org_z[lane] = oz;
+    ray.dir_x[lane] = x[k], ray.dir_y[lane] = y[k], ray.dir_z[lane] = z[k];
+    ray.tnear[lane] = 0.0f, ray.tfar[lane] = kInfinity, ray.time[lane] = 0.0f;
+    ray.mask[lane] = 0xffffffffu, ray.id[lane] = unsigned(lane), ray.flags[lane] = 0;
+    rayhit.hit.geomID[lane] = rayhit.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+    valid[lane] = k < n ? -1 : 0;
   }
 }
 
