@@ -101,10 +101,12 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   auto start = std::chrono::steady_clock::now();
   update_scene(time, camera, stats);
   if (accumulated_spp_ == 0) sample_epoch_ = uint64_t(frame_index);  // a new run of samples, new scrambles
+  const bool restir = settings_.method == Method::RestirDi || settings_.method == Method::Restir;
   {
     StageTimer timer(stats, "gbuffer");
-    trace_gbuffer(scene_, *tracer_, camera_, prev_camera_, GBufferParams{settings_.seed, frame_index, settings_.jitter},
-                  gbuffer_, timer.rays());
+    GBufferParams params{settings_.seed, frame_index, settings_.jitter};
+    params.packed = restir;  // ReSTIR's targets read the packed surfaces
+    trace_gbuffer(scene_, *tracer_, camera_, prev_camera_, params, gbuffer_, timer.rays());
   }
   // The estimator, in sample passes of at most 4 spp (1 under a time budget, and 1 for ReSTIR DI, whose
   // passes each resample anew at the G-buffer's points), so long renders can report progress.
@@ -117,7 +119,6 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   };
   int done = 0;
   while (more(done)) {
-    const bool restir = settings_.method == Method::RestirDi || settings_.method == Method::Restir;
     int pass = restir || settings_.time_budget_ms > 0.0 ? 1 : std::min(4, settings_.spp - done);
     if (restir)
       std::visit(
@@ -165,7 +166,7 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int done,
 
 RestirFrame Renderer::restir_frame() const {
   const bool moved = lights_moved_ && !settings_.test.stale_light_history;
-  return {lights_, moved ? prev_lights_ : lights_, camera_.position(), prev_camera_.position()};
+  return {lights_, moved ? prev_lights_ : lights_, camera_.position(), prev_camera_.position(), prev_gbuffer_.packed};
 }
 
 DiDomain Renderer::current_domain() const { return restir_.current_domain(restir_frame(), gbuffer_); }

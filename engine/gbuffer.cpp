@@ -40,6 +40,7 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
     g.depth[i] = kInfinity;
     g.emission[i] = scene.environment;
     g.motion[i] = vec2(0.0f);
+    if (!g.packed.empty()) g.packed[i] = PackedSurface{};
     vec2 prev_film;
     // The background is infinitely far: it moves with the camera's rotation only.
     if (!still && prev_camera.project(prev_camera.position() + dir, prev_film)) g.motion[i] = prev_film - film;
@@ -56,6 +57,9 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   g.emission[i] = sp.emission;
   g.instance[i] = hit.instance;
   g.prim[i] = hit.prim;
+  if (!g.packed.empty())
+    g.packed[i] = pack_surface(sp.position, g.depth[i], sp.shading_normal, sp.geometric_normal, sp.base_color,
+                               g.material[i], sp.specular_f0);
   const bool animated = scene.instances[hit.instance].animated;
   vec3 prev_position = animated ? transform_point(prev_from_current[hit.instance], sp.position) : sp.position;
   // The hit lies on the ray through `film`, so `film` is its projection in this frame.
@@ -115,6 +119,10 @@ static void trace_tile(const Tracer& tracer, const Camera& camera, const GBuffer
 void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camera, const Camera& prev_camera,
                    const GBufferParams& params, GBuffer& out, RayCounter& rays) {
   if (out.width != camera.width() || out.height != camera.height()) out.resize(camera.width(), camera.height());
+  if (!params.packed)
+    out.packed.clear();
+  else if (out.packed.size() != out.size())
+    out.packed.resize(out.size());  // every pixel is written below
   const GBufferInstances instances(scene);
   const bool still = camera == prev_camera;  // then only animated instances have motion
   for_each_tile(out.width, out.height, [&](const Tile& tile) {

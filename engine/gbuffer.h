@@ -6,6 +6,7 @@
 #include "engine/bsdf.h"
 #include "engine/camera.h"
 #include "engine/frame_stats.h"
+#include "engine/packed_surface.h"
 #include "engine/scene.h"
 #include "engine/tracer.h"
 
@@ -39,6 +40,9 @@ struct GBuffer {
   Plane<uint32_t> prim;
   Plane<vec2> motion;  // pixels from this frame's film position to last frame's
   Plane<vec2> jitter;  // film position of the primary ray within its pixel, in [0,1)^2
+  // The same surfaces packed (PackedSurface{} where nothing was hit), written where GBufferParams::packed asks
+  // for them; empty otherwise.
+  Plane<PackedSurface> packed;
 
   void resize(int w, int h);
   size_t size() const { return size_t(width) * height; }
@@ -51,12 +55,13 @@ struct GBuffer {
 struct GBufferParams {
   uint64_t seed = 0;
   int frame = 0;
-  bool jitter = true;  // false: rays through pixel centres
-  bool simd = true;    // false: every pixel through surface_at (the reference the SIMD kernel is tested against)
+  bool jitter = true;   // false: rays through pixel centres
+  bool simd = true;     // false: every pixel through surface_at (the reference the SIMD kernel is tested against)
+  bool packed = false;  // also write GBuffer::packed (ReSTIR's targets read it)
 };
 
-// Reads scene, tracer and both cameras; writes every plane of `out`. Traces one ray per pixel
-// (rtcIntersect16 on 4x4 pixel blocks, coherent flag); shades a tile row at a time in SIMD lanes
+// Reads scene, tracer and both cameras; writes every plane of `out` (`packed` only with params.packed). Traces one ray
+// per pixel (rtcIntersect16 on 4x4 pixel blocks, coherent flag); shades a tile row at a time in SIMD lanes
 // (gbuffer_lanes.h), hits on textured materials with surface_at.
 void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camera, const Camera& prev_camera,
                    const GBufferParams& params, GBuffer& out, RayCounter& rays);

@@ -149,6 +149,59 @@ void store_first(D d, V x, V y, int n, vec2* dst) {
   std::memcpy(dst, buffer, sizeof(vec2) * size_t(n));
 }
 
+// floor(v + 0.5) as an integer: engine/math.h round_nearest.
+VI round_nearest(D d, V v) { return hn::ConvertTo(DI(), hn::Floor(hn::Add(v, hn::Set(d, 0.5f)))); }
+// engine/octahedral.h oct_encode: the L1 projection, the lower half folded over, 16 bits per coordinate.
+VU oct_encode(D d, const V3& n) {
+  const V one = hn::Set(d, 1.0f), half = hn::Set(d, 0.5f);
+  const V l1 = hn::Add(hn::Add(hn::Abs(n.x), hn::Abs(n.y)), hn::Abs(n.z));
+  const V x = hn::Div(n.x, l1), y = hn::Div(n.y, l1);
+  const M lower = hn::Lt(n.z, hn::Zero(d));
+  const V fx = hn::IfThenElse(lower, hn::Mul(hn::Sub(one, hn::Abs(y)), hn::CopySign(one, x)), x);
+  const V fy = hn::IfThenElse(lower, hn::Mul(hn::Sub(one, hn::Abs(x)), hn::CopySign(one, y)), y);
+  auto quantise = [&](V v) {
+    const V clamped = min_of(max_of(v, hn::Set(d, -1.0f)), one);
+    return hn::BitCast(DU(), round_nearest(d, hn::Mul(hn::Add(hn::Mul(clamped, half), half), hn::Set(d, 65535.0f))));
+  };
+  return hn::Or(quantise(fx), hn::ShiftLeft<16>(quantise(fy)));
+}
+// engine/packed_surface.cpp unorm8: [0, 1] in 8 bits.
+VU unorm8(D d, V v) {
+  const V clamped = min_of(max_of(v, hn::Zero(d)), hn::Set(d, 1.0f));
+  return hn::BitCast(DU(), round_nearest(d, hn::Mul(clamped, hn::Set(d, 255.0f))));
+}
+// engine/packed_surface.cpp pack_surface: writes lanes [0, n) at dst, whole vectors with streaming stores.
+void store_packed(D d, M hit, const V3& position, V depth, const V3& ns, const V3& ng, const V3& albedo,
+                  const V3& material, const V3& specular_f0, int n, PackedSurface* dst) {
+  static_assert(sizeof(PackedSurface) == 8 * sizeof(float), "a packed surface is 8 floats");
+  const DU du;
+  const V one = hn::Set(d, 1.0f), zero = hn::Zero(d);
+  auto sqrt_unit = [&](V v) { return hn::Sqrt(min_of(max_of(v, zero), one)); };  // glm::clamp, then sqrt
+  const VU a = hn::Or(hn::Or(unorm8(d, sqrt_unit(albedo.x)), hn::ShiftLeft<8>(unorm8(d, sqrt_unit(albedo.y)))),
+                      hn::ShiftLeft<16>(unorm8(d, sqrt_unit(albedo.z))));
+  const V f0 = hn::Sqrt(max_of(specular_f0.x, max_of(specular_f0.y, specular_f0.z)));  // max_component
+  const VU m = hn::Or(hn::Or(unorm8(d, material.x), hn::ShiftLeft<8>(unorm8(d, material.y))),
+                      hn::Or(hn::ShiftLeft<16>(unorm8(d, material.z)), hn::ShiftLeft<24>(unorm8(d, f0))));
+  const VU none = hn::Zero(du);
+  const auto hit_u = hn::RebindMask(du, hit);
+  constexpr int kMax = HWY_MAX_BYTES / sizeof(float);
+  HWY_ALIGN float geometry[4 * kMax], codes[4 * kMax], both[8 * kMax];
+  hn::StoreInterleaved4(hn::IfThenElseZero(hit, position.x), hn::IfThenElseZero(hit, position.y),
+                        hn::IfThenElseZero(hit, position.z), hn::IfThenElse(hit, depth, hn::Set(d, kInfinity)), d,
+                        geometry);
+  hn::StoreInterleaved4(hn::BitCast(d, hn::IfThenElse(hit_u, oct_encode(d, ns), none)),
+                        hn::BitCast(d, hn::IfThenElse(hit_u, oct_encode(d, ng), none)),
+                        hn::BitCast(d, hn::IfThenElse(hit_u, a, none)), hn::BitCast(d, hn::IfThenElse(hit_u, m, none)),
+                        d, codes);
+  const int lanes = int(hn::Lanes(d));
+  for (int lane = 0; lane < lanes; ++lane) {
+    std::memcpy(both + 8 * lane, geometry + 4 * lane, 4 * sizeof(float));
+    std::memcpy(both + 8 * lane + 4, codes + 4 * lane, 4 * sizeof(float));
+  }
+  if (n == lanes) return stream_floats(d, both, 8 * size_t(n), &dst->position.x);
+  std::memcpy(dst, both, sizeof(PackedSurface) * size_t(n));
+}
+
 // The hit triangles' object-space corners p[k] and vertex normals n[k] (0 where the mesh has none, and in lanes
 // without a hit), world_triangle's and surface_at's inputs. Loaded once per distinct triangle of the vector and
 // broadcast into the lanes that hit it: neighbouring pixels mostly see one triangle, so this is ~20 scalar
@@ -243,6 +296,9 @@ void shade(D d, const GBufferInstances& instances, const Cameras& c, const Prima
   store_first(d, zero_unless(hit, material), count, out.material.data() + pixel);
   store_first(d, zero_unless(hit, r.vec3_at(d, F::kSpecularF0)), count, out.specular_f0.data() + pixel);
   store_first(d, select(hit, emission, c.environment), count, out.emission.data() + pixel);
+  if (!out.packed.empty())
+    store_packed(d, hit, position, depth, ns, ng, r.vec3_at(d, F::kBaseColor), material, r.vec3_at(d, F::kSpecularF0),
+                 count, out.packed.data() + pixel);
   store_first(du, instance, count, out.instance.data() + pixel);
   store_first(du, hn::IfThenElse(hn::RebindMask(du, hit), hn::Load(du, h.prim + s), no_hit), count,
               out.prim.data() + pixel);

@@ -7,12 +7,13 @@
 // lifetime (LightList keeps one per emitting triangle of each instance and per punctual light), so a
 // sample's identity needs no remap between frames, and a light that moved, dimmed or went dark is simply
 // re-evaluated where it is now.
+#include <span>
 #include <vector>
 
 #include "engine/gbuffer.h"
 #include "engine/image.h"
 #include "engine/path_tracer.h"
-#include "restir/di_surface.h"
+#include "engine/packed_surface.h"
 #include "restir/reservoir.h"
 
 namespace candela {
@@ -54,7 +55,7 @@ struct DiParams {
 // placement (this frame's, or the previous frame's for temporal reuse, so that moving lights are judged
 // where they were).
 struct DiDomain {
-  const std::vector<DiSurface>& surfaces;
+  std::span<const PackedSurface> surfaces;
   int width, height;
   vec3 eye;
   const LightList& lights;
@@ -68,7 +69,7 @@ struct DiReceiver {
 };
 // The receiver whose target function resampling uses: the packed surface of pixel i.
 inline DiReceiver di_receiver(const DiDomain& domain, size_t i) {
-  const DiSurface& s = domain.surfaces[i];
+  const PackedSurface& s = domain.surfaces[i];
   vec3 n = s.shading_n();
   return {s.position, s.geometric_n(), n, glm::normalize(domain.eye - s.position), s.bsdf(n), &domain.lights};
 }
@@ -116,7 +117,8 @@ inline LightSample di_light_sample(const LightList& lights, const vec3& p, const
 }
 
 // The shadow ray from a packed surface, of a frame whose lights are `lights`, to sample s placed by them.
-inline Ray di_shadow_ray(const Tracer& tracer, const DiSurface& surface, const LightList& lights, const DiSample& s) {
+inline Ray di_shadow_ray(const Tracer& tracer, const PackedSurface& surface, const LightList& lights,
+                         const DiSample& s) {
   return shadow_ray(tracer, surface.position, surface.geometric_n(), di_light_sample(lights, surface.position, s));
 }
 

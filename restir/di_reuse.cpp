@@ -30,7 +30,7 @@ const std::vector<vec2>& neighbour_offsets() {
 }
 
 // Whether surface b may share samples with surface a (shading normal a_n): close in depth and orientation.
-bool similar(const DiSurface& a, const vec3& a_n, const DiSurface& b, const DiReuseParams& p) {
+bool similar(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const DiReuseParams& p) {
   if (!b.hit() || std::abs(a.depth - b.depth) > p.depth_tolerance * a.depth) return false;
   return glm::dot(a_n, b.shading_n()) >= p.normal_tolerance;
 }
@@ -413,7 +413,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
                       std::vector<DiReservoir>& out, RayCounter& rays) {
-  const std::vector<DiSurface>& surfaces = current.surfaces;
+  const std::span<const PackedSurface> surfaces = current.surfaces;
   const int width = current.width, height = current.height;
   out.resize(in.size());  // every pixel is written by its tile row below
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();

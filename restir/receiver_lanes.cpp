@@ -1,6 +1,6 @@
 // The receiver kernel (receiver_lanes.h), compiled once per instruction set by Highway's foreach_target.h
 // and dispatched at run time. Each step names the scalar function whose arithmetic it repeats, in the same
-// order (engine/octahedral.h oct_decode, restir/di.h di_receiver, restir/di_surface.cpp DiSurface::bsdf,
+// order (engine/octahedral.h oct_decode, restir/di.h di_receiver, engine/packed_surface.cpp PackedSurface::bsdf,
 // engine/bsdf.cpp the Bsdf constructor and Bsdf::wo_terms, engine/ggx_albedo.h GgxAlbedoRow). The packed
 // material's specular F0 is grey, so the dielectric layer's terms are one value for all three channels.
 #undef HWY_TARGET_INCLUDE
@@ -31,7 +31,7 @@ V3 oct_decode(D d, VU e) {
   return normalize(d, n);
 }
 
-// DiSurface::bsdf's from_unorm8 of the byte at `shift`.
+// PackedSurface::bsdf's from_unorm8 of the byte at `shift`.
 template <int kShift>
 V unorm8(D d, VU packed) {
   const VU byte = hn::And(hn::ShiftRight<kShift>(packed), hn::Set(DU(), 255u));
@@ -85,7 +85,7 @@ void build(D d, const SurfaceLanes& in, const vec3& eye, int s, ReceiverLanes& o
   store3(d, p, out.px, out.py, out.pz, s);
   store3(d, ng, out.gx, out.gy, out.gz, s);
   store3(d, wo, out.wox, out.woy, out.woz, s);
-  // DiSurface::bsdf: the packed material's parameters.
+  // PackedSurface::bsdf: the packed material's parameters.
   const VU albedo = hn::Load(du, in.albedo + s), material = hn::Load(du, in.material + s);
   V base[3] = {unorm8<0>(d, albedo), unorm8<8>(d, albedo), unorm8<16>(d, albedo)};
   for (V& c : base) c = hn::Mul(c, c);

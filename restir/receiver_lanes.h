@@ -3,10 +3,10 @@
 // direction to the eye and the BSDF of the packed material) with the wo terms of its BSDF, for up to a
 // tile row of surfaces at once. Reuse evaluates each neighbour's receiver against one or two samples only,
 // so building it costs as much as evaluating it: in lanes, both are cheap. The kernel repeats the scalar
-// code's operations in order (oct_decode, glm::normalize, DiSurface::bsdf, the Bsdf constructor and
+// code's operations in order (oct_decode, glm::normalize, PackedSurface::bsdf, the Bsdf constructor and
 // Bsdf::wo_terms), so it gives their bits (tests/test_target_lanes.cpp).
 #include "engine/gbuffer.h"
-#include "restir/di_surface.h"
+#include "engine/packed_surface.h"
 #include "restir/target_lanes.h"
 
 namespace candela {
@@ -16,7 +16,7 @@ struct SurfaceLanes {
   alignas(64) float px[kLaneSlots], py[kLaneSlots], pz[kLaneSlots];
   alignas(64) uint32_t shading_normal[kLaneSlots], geometric_normal[kLaneSlots];
   alignas(64) uint32_t albedo[kLaneSlots], material[kLaneSlots];
-  void set(int slot, const DiSurface& s) {
+  void set(int slot, const PackedSurface& s) {
     px[slot] = s.position.x, py[slot] = s.position.y, pz[slot] = s.position.z;
     shading_normal[slot] = s.shading_normal, geometric_normal[slot] = s.geometric_normal;
     albedo[slot] = s.albedo, material[slot] = s.material;

@@ -10,18 +10,11 @@ void Restir::forget_history() {
 }
 
 DiDomain Restir::current_domain(const RestirFrame& frame, const GBuffer& g) const {
-  return {surfaces_, g.width, g.height, frame.eye, frame.lights};
+  return {g.packed, g.width, g.height, frame.eye, frame.lights};
 }
 
 DiDomain Restir::previous_domain(const RestirFrame& frame, const GBuffer& g) const {
-  return {prev_surfaces_, g.width, g.height, frame.prev_eye, frame.prev_lights};
-}
-
-void Restir::pack_surfaces(const GBuffer& g, int pass, FrameStats& stats) {
-  if (pass != 0) return;
-  StageTimer timer(stats, "di_surfaces");
-  std::swap(surfaces_, prev_surfaces_);
-  pack_di_surfaces(g, surfaces_);
+  return {frame.prev_surfaces, g.width, g.height, frame.prev_eye, frame.prev_lights};
 }
 
 // With drop_occluded: every reservoir whose sample the shading's shadow ray (or a reused verdict) found

@@ -3,9 +3,11 @@
 // stage chain candidates -> temporal reuse -> boiling filter -> spatial reuse -> shading, run for DI and,
 // with GI on, for GI's reservoirs through the same reuse code. The renderer owns the scene, the lights
 // and the G-buffer, and hands them in every pass.
+#include <span>
 #include <string>
 #include <vector>
 
+#include "engine/check.h"
 #include "engine/frame_stats.h"
 #include "engine/image.h"
 #include "restir/di.h"
@@ -34,21 +36,23 @@ struct RestirSettings {
   uint64_t seed = 1;
 };
 
-// What a pass reads besides the G-buffer: this frame's light placement and eye, and last frame's, as the
-// renderer decided them (last frame's placement is this frame's where no light moved).
+// What a pass reads besides the G-buffer (whose packed surfaces, GBufferParams::packed, its targets read):
+// this frame's light placement and eye, and last frame's, as the renderer decided them (last frame's
+// placement is this frame's where no light moved), and last frame's packed surfaces (empty: none).
 struct RestirFrame {
   const LightList& lights;
   const LightList& prev_lights;
   vec3 eye, prev_eye;
+  std::span<const PackedSurface> prev_surfaces;
 };
 
 class Restir {
  public:
   explicit Restir(const RestirSettings& settings) : settings_(settings) {}
 
-  // One pass of frame `frame_index` (pass 0 packs the G-buffer's surfaces and may reuse history; later
-  // passes of the same frame resample anew): one estimate per pixel of direct (and indirect) light added
-  // into `sum`. Each pass of each frame draws its own random streams.
+  // One pass of frame `frame_index` (pass 0 may reuse history; later passes of the same frame resample
+  // anew): one estimate per pixel of direct (and indirect) light added into `sum`. Each pass of each frame
+  // draws its own random streams. `g` holds packed surfaces (GBufferParams::packed).
   template <LightSampler S>
   void pass(const SceneView& view, const S& sampler, const GBuffer& g, const RestirFrame& frame, int frame_index,
             int pass, FrameStats& stats, Image& sum);
@@ -67,15 +71,12 @@ class Restir {
   DiDomain previous_domain(const RestirFrame& frame, const GBuffer& g) const;
 
  private:
-  // Stage "di_surfaces" (pass 0 only): last frame's packed surfaces become history, this frame's are packed.
-  void pack_surfaces(const GBuffer& g, int pass, FrameStats& stats);
   void reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
                        const DiReuseParams& reuse, int key, int pass, const std::vector<vec3>* unsampled,
                        ReservoirChain& chain, FrameStats& stats, Image& sum);
 
   RestirSettings settings_;
   ReservoirChain di_, gi_;
-  std::vector<DiSurface> surfaces_, prev_surfaces_;  // packed G-buffer surfaces of this and last frame
   std::vector<vec3> unsampled_;  // light only BSDF candidates reach (environment, unlisted emitters)
   LightTiles light_tiles_;       // presampled light tiles of this pass (with DiParams::light_tiles)
 };
@@ -84,7 +85,7 @@ template <LightSampler S>
 void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, const RestirFrame& frame, int frame_index,
                   int pass, FrameStats& stats, Image& sum) {
   const int key = frame_index * 4096 + pass;
-  pack_surfaces(g, pass, stats);
+  CHECK(g.packed.size() == g.size());
   const DiDomain current = current_domain(frame, g);
   if (!settings_.with_gi || !settings_.gi_only) {
     DiParams params = settings_.di;

@@ -80,7 +80,7 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
         CHECK(!domain || domain == row.inputs[s][k].domain);
         domain = row.inputs[s][k].domain;
       }
-      planes.surfaces.set(s, has ? row.inputs[s][k].domain->surfaces[row.inputs[s][k].pixel] : DiSurface{});
+      planes.surfaces.set(s, has ? row.inputs[s][k].domain->surfaces[row.inputs[s][k].pixel] : PackedSurface{});
     }
     if (own_placed_by != &domain->lights) {
       for (int s = 0; s < slots; ++s) {
@@ -98,7 +98,7 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
         row.targets[s].of_combiner[k] = planes.own.p_hat[s];
         row.targets[s].known_of |= 1u << k;
         if (!visibility || planes.own.p_hat[s] <= 0.0f) continue;
-        const DiSurface& from = domain->surfaces[row.inputs[s][k].pixel];
+        const PackedSurface& from = domain->surfaces[row.inputs[s][k].pixel];
         // y_0 as placed for input k: a stored point (kSurfacePointSample: use the point as it is).
         const DiSample y{kSurfacePointSample, vec2(0.0f), planes.own.point(s), 0};
         queue.add(di_shadow_ray(view.tracer, from, domain->lights, y), uint32_t(s) << 8 | uint32_t(k));

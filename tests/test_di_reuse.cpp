@@ -54,7 +54,7 @@ TargetAt target_and_visibility(const Renderer& renderer, const DiDomain& domain,
 }
 
 // Whether surface b may share samples with a (depth within 10%, normals within cos 0.9: the reuse defaults).
-bool similar(const DiSurface& a, const DiSurface& b) {
+bool similar(const PackedSurface& a, const PackedSurface& b) {
   return b.hit() && std::abs(a.depth - b.depth) <= 0.1f * a.depth && glm::dot(a.shading_n(), b.shading_n()) >= 0.9f;
 }
 
@@ -230,7 +230,7 @@ TEST(RestirDiReuse, BoilingFilterDropsOutliersOnly) {
   set(b, 100.0f, 1.0f);
   set(c, 3.0f, 4.0f);
   const std::vector<DiReservoir> before = reservoirs;
-  std::vector<DiSurface> surfaces(reservoirs.size());
+  std::vector<PackedSurface> surfaces(reservoirs.size());
   LightList lights;
   di_boiling_filter(DiDomain{surfaces, w, h, vec3(0.0f), lights}, 10.0f, reservoirs);
   EXPECT_EQ(reservoirs[b].W, 0.0f);

@@ -136,7 +136,7 @@ int differing_pixels(const Plane<T>& a, const Plane<T>& b) {
 // The SIMD kernel against surface_at (GBufferParams::simd = false) on every instruction set: every plane
 // identical to the bit, for jittered rays from a moving camera (misses' motion, partial tile rows at
 // 203x101), moving instances (city's cars), a mirrored instance and, with the shared scenes, a textured,
-// normal-mapped glTF (the kernel leaves those hits to surface_at).
+// normal-mapped glTF (the kernel leaves those hits to surface_at). The packed surfaces too.
 TEST(GBuffer, LanesGiveTheScalarBits) {
   std::vector<std::pair<std::string, Scene>> scenes;
   scenes.emplace_back("cornell", make_cornell_scene());
@@ -157,10 +157,11 @@ TEST(GBuffer, LanesGiveTheScalarBits) {
     tracer.update_instances(scene);
     RayCounter rays;
     GBuffer reference;
-    trace_gbuffer(scene, tracer, cur, prev, GBufferParams{5, 1, true, false}, reference, rays);
+    trace_gbuffer(scene, tracer, cur, prev, GBufferParams{5, 1, true, false, true}, reference, rays);
+    ASSERT_EQ(reference.packed.size(), reference.size());
     for_each_simd_target([&](const char* target) {
       GBuffer lanes;
-      trace_gbuffer(scene, tracer, cur, prev, GBufferParams{5, 1, true, true}, lanes, rays);
+      trace_gbuffer(scene, tracer, cur, prev, GBufferParams{5, 1, true, true, true}, lanes, rays);
       SCOPED_TRACE(name + ", " + target);
       EXPECT_EQ(differing_pixels(lanes.position, reference.position), 0);
       EXPECT_EQ(differing_pixels(lanes.shading_normal, reference.shading_normal), 0);
@@ -174,6 +175,7 @@ TEST(GBuffer, LanesGiveTheScalarBits) {
       EXPECT_EQ(differing_pixels(lanes.prim, reference.prim), 0);
       EXPECT_EQ(differing_pixels(lanes.motion, reference.motion), 0);
       EXPECT_EQ(differing_pixels(lanes.jitter, reference.jitter), 0);
+      EXPECT_EQ(differing_pixels(lanes.packed, reference.packed), 0);
     });
   }
 }

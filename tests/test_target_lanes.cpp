@@ -149,7 +149,7 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
     const float u = rng.next_float();
     return u < 0.1f ? 0u : u < 0.2f ? 255u : uint32_t(rng.next_float() * 256.0f) & 255u;
   };
-  std::vector<DiSurface> surfaces(kLaneSlots);
+  std::vector<PackedSurface> surfaces(kLaneSlots);
   auto lanes = std::make_unique<ReceiverLanes>(), scalar = std::make_unique<ReceiverLanes>();
   auto packed = std::make_unique<SurfaceLanes>();
   int compared = 0, lit = 0;
@@ -157,7 +157,7 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
   for (int batch = 0; batch < 100; ++batch) {
     const vec3 eye = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 6.0f;
     for (int s = 0; s < kLaneSlots; ++s) {
-      DiSurface& surface = surfaces[size_t(s)];
+      PackedSurface& surface = surfaces[size_t(s)];
       surface.position = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 4.0f;
       surface.depth = 1.0f;
       surface.shading_normal = oct_encode(random_unit(rng));
