@@ -96,6 +96,7 @@ struct BenchScene {
   std::unique_ptr<LightList> lights;
   Camera camera;
   GBuffer gbuffer;
+  GBuffer packed_gbuffer;  // the gbuffer_packed benchmark's
 };
 
 // One shadow ray per G-buffer hit towards a point on a light chosen by pixel hash (uniformly);
@@ -239,21 +240,28 @@ int run_bench(const BenchOptions& options) {
       trace_gbuffer(s->scene, *s->tracer, s->camera, s->camera, GBufferParams{1, 0, true}, s->gbuffer, rays);
       return rays.count.load();
     });
+    add("gbuffer_packed", [s] {  // as ReSTIR runs it: with the packed surfaces
+      RayCounter rays;
+      GBufferParams params{1, 0, true};
+      params.packed = true;
+      trace_gbuffer(s->scene, *s->tracer, s->camera, s->camera, params, s->packed_gbuffer, rays);
+      return rays.count.load();
+    });
     add("shadow_occluded16", [s] { return shadow_rays(*s, true); });
     add("shadow_occluded1", [s] { return shadow_rays(*s, false); });
   }
   BenchResults results = run_registered_benchmarks(o);
 
   std::printf("\nSummary at %dx%d (medians of %d repetitions, Mrays/s):\n", o.width, o.height, o.repetitions);
-  std::printf("%-20s %12s %10s %12s %12s %12s\n", "scene", "raw_isect16", "gbuffer", "raw/gbuffer", "occluded16",
-              "occluded1");
+  std::printf("%-20s %12s %10s %12s %12s %12s %12s\n", "scene", "raw_isect16", "gbuffer", "raw/gbuffer", "raw/packed",
+              "occluded16", "occluded1");
   for (const std::string& name : names) {
     auto rate = [&](const std::string& kind) {
       return BenchResults::median(results.rays_per_second, kind + "/" + name) * 1e-6;
     };
-    double raw = rate("raw_intersect16"), gb = rate("gbuffer");
-    std::printf("%-20s %12.2f %10.2f %12.2f %12.2f %12.2f\n", name.c_str(), raw, gb, gb > 0 ? raw / gb : 0.0,
-                rate("shadow_occluded16"), rate("shadow_occluded1"));
+    double raw = rate("raw_intersect16"), gb = rate("gbuffer"), packed = rate("gbuffer_packed");
+    std::printf("%-20s %12.2f %10.2f %12.2f %12.2f %12.2f %12.2f\n", name.c_str(), raw, gb, gb > 0 ? raw / gb : 0.0,
+                packed > 0 ? raw / packed : 0.0, rate("shadow_occluded16"), rate("shadow_occluded1"));
   }
   return 0;
 }

@@ -20,7 +20,6 @@ void GBuffer::resize(int w, int h) {
   specular_f0.assign(n, vec3(0.0f));
   emission.assign(n, vec3(0.0f));
   instance.assign(n, kNoHit);
-  prim.assign(n, kNoHit);
   motion.assign(n, vec2(0.0f));
   jitter.assign(n, vec2(0.5f));
 }
@@ -36,7 +35,7 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   if (!hit.valid()) {
     g.position[i] = g.shading_normal[i] = g.geometric_normal[i] = g.albedo[i] = vec3(0.0f);
     g.material[i] = g.specular_f0[i] = vec3(0.0f);
-    g.instance[i] = g.prim[i] = kNoHit;
+    g.instance[i] = kNoHit;
     g.depth[i] = kInfinity;
     g.emission[i] = scene.environment;
     g.motion[i] = vec2(0.0f);
@@ -56,7 +55,6 @@ static void write_pixel(const Scene& scene, const std::vector<mat4>& prev_from_c
   g.specular_f0[i] = sp.specular_f0;
   g.emission[i] = sp.emission;
   g.instance[i] = hit.instance;
-  g.prim[i] = hit.prim;
   if (!g.packed.empty())
     g.packed[i] = pack_surface(sp.position, g.depth[i], sp.shading_normal, sp.geometric_normal, sp.base_color,
                                g.material[i], sp.specular_f0);

@@ -37,9 +37,8 @@ struct GBuffer {
   Plane<vec3> specular_f0;  // the dielectric's F0
   Plane<vec3> emission;
   Plane<uint32_t> instance;  // kNoHit where nothing was hit
-  Plane<uint32_t> prim;
-  Plane<vec2> motion;  // pixels from this frame's film position to last frame's
-  Plane<vec2> jitter;  // film position of the primary ray within its pixel, in [0,1)^2
+  Plane<vec2> motion;        // pixels from this frame's film position to last frame's
+  Plane<vec2> jitter;        // film position of the primary ray within its pixel, in [0,1)^2
   // The same surfaces packed (PackedSurface{} where nothing was hit), written where GBufferParams::packed asks
   // for them; empty otherwise.
   Plane<PackedSurface> packed;

@@ -184,22 +184,36 @@ void store_packed(D d, M hit, const V3& position, V depth, const V3& ns, const V
                       hn::Or(hn::ShiftLeft<16>(unorm8(d, material.z)), hn::ShiftLeft<24>(unorm8(d, f0))));
   const VU none = hn::Zero(du);
   const auto hit_u = hn::RebindMask(du, hit);
-  constexpr int kMax = HWY_MAX_BYTES / sizeof(float);
-  HWY_ALIGN float geometry[4 * kMax], codes[4 * kMax], both[8 * kMax];
-  hn::StoreInterleaved4(hn::IfThenElseZero(hit, position.x), hn::IfThenElseZero(hit, position.y),
-                        hn::IfThenElseZero(hit, position.z), hn::IfThenElse(hit, depth, hn::Set(d, kInfinity)), d,
-                        geometry);
-  hn::StoreInterleaved4(hn::BitCast(d, hn::IfThenElse(hit_u, oct_encode(d, ns), none)),
-                        hn::BitCast(d, hn::IfThenElse(hit_u, oct_encode(d, ng), none)),
-                        hn::BitCast(d, hn::IfThenElse(hit_u, a, none)), hn::BitCast(d, hn::IfThenElse(hit_u, m, none)),
-                        d, codes);
+  // Each pixel's 8 fields as 4 pairs of 32-bit values, written as interleaved 64-bit lanes. InterleaveLower and
+  // InterleaveUpper pair lanes 0-1 and 2-3 of each 128-bit block, so the lanes are first permuted for the lower
+  // halves to hold pixels [0, N/2) in order and the upper ones [N/2, N).
   const int lanes = int(hn::Lanes(d));
-  for (int lane = 0; lane < lanes; ++lane) {
-    std::memcpy(both + 8 * lane, geometry + 4 * lane, 4 * sizeof(float));
-    std::memcpy(both + 8 * lane + 4, codes + 4 * lane, 4 * sizeof(float));
-  }
-  if (n == lanes) return stream_floats(d, both, 8 * size_t(n), &dst->position.x);
-  std::memcpy(dst, both, sizeof(PackedSurface) * size_t(n));
+  HWY_ALIGN int32_t order[HWY_MAX_BYTES / sizeof(float)];
+  for (int lane = 0; lane < lanes; ++lane) order[lane] = ((lane & 3) < 2 ? 0 : lanes / 2) + 2 * (lane / 4) + (lane & 1);
+  const auto permute = hn::SetTableIndices(du, order);
+  auto field = [&](VU v) { return hn::TableLookupLanes(v, permute); };
+  auto bits = [&](V v) { return field(hn::BitCast(du, v)); };
+  const VU fields[8] = {bits(hn::IfThenElseZero(hit, position.x)),
+                        bits(hn::IfThenElseZero(hit, position.y)),
+                        bits(hn::IfThenElseZero(hit, position.z)),
+                        bits(hn::IfThenElse(hit, depth, hn::Set(d, kInfinity))),
+                        field(hn::IfThenElse(hit_u, oct_encode(d, ns), none)),
+                        field(hn::IfThenElse(hit_u, oct_encode(d, ng), none)),
+                        field(hn::IfThenElse(hit_u, a, none)),
+                        field(hn::IfThenElse(hit_u, m, none))};
+  const hn::Repartition<uint64_t, DU> d64;
+  HWY_ALIGN uint64_t records[4 * HWY_MAX_BYTES / sizeof(uint64_t) * 2];
+  auto pairs = [&](bool upper, uint64_t* out) {
+    auto pair = [&](int k) {
+      return hn::BitCast(d64, upper ? hn::InterleaveUpper(du, fields[k], fields[k + 1])
+                                    : hn::InterleaveLower(du, fields[k], fields[k + 1]));
+    };
+    hn::StoreInterleaved4(pair(0), pair(2), pair(4), pair(6), d64, out);
+  };
+  pairs(false, records);
+  pairs(true, records + 2 * size_t(lanes));
+  if (n == lanes) return stream_floats(d, reinterpret_cast<const float*>(records), 8 * size_t(n), &dst->position.x);
+  std::memcpy(dst, records, sizeof(PackedSurface) * size_t(n));
 }
 
 // The hit triangles' object-space corners p[k] and vertex normals n[k] (0 where the mesh has none, and in lanes
@@ -300,8 +314,6 @@ void shade(D d, const GBufferInstances& instances, const Cameras& c, const Prima
     store_packed(d, hit, position, depth, ns, ng, r.vec3_at(d, F::kBaseColor), material, r.vec3_at(d, F::kSpecularF0),
                  count, out.packed.data() + pixel);
   store_first(du, instance, count, out.instance.data() + pixel);
-  store_first(du, hn::IfThenElse(hn::RebindMask(du, hit), hn::Load(du, h.prim + s), no_hit), count,
-              out.prim.data() + pixel);
 }
 
 // Film positions (the pixel plus its jitter) and Camera::direction through them: normalize(forward +

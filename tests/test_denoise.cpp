@@ -243,7 +243,6 @@ GBuffer make_gbuffer(int w, int h, const std::function<std::optional<Surface>(in
       g.albedo[i] = s->albedo;
       g.emission[i] = s->emission;
       g.instance[i] = s->instance;
-      g.prim[i] = 0;
       g.position[i] = vec3(float(x), float(y), -s->depth);
     }
   return g;

@@ -172,7 +172,6 @@ TEST(GBuffer, LanesGiveTheScalarBits) {
       EXPECT_EQ(differing_pixels(lanes.specular_f0, reference.specular_f0), 0);
       EXPECT_EQ(differing_pixels(lanes.emission, reference.emission), 0);
       EXPECT_EQ(differing_pixels(lanes.instance, reference.instance), 0);
-      EXPECT_EQ(differing_pixels(lanes.prim, reference.prim), 0);
       EXPECT_EQ(differing_pixels(lanes.motion, reference.motion), 0);
       EXPECT_EQ(differing_pixels(lanes.jitter, reference.jitter), 0);
       EXPECT_EQ(differing_pixels(lanes.packed, reference.packed), 0);
