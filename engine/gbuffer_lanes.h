@@ -62,11 +62,11 @@ struct PrimaryHitLanes {
 void primary_rays_lanes(const Camera& camera, int x0, int y, int count, const float* jitter_x, const float* jitter_y,
                         PrimaryHitLanes& row, vec2* jitter);
 
-// Writes pixels [first_pixel, first_pixel + count) of every G-buffer plane except `jitter` from slots
-// [0, count) of `hits` (count <= kTileWidth): surface_at's values for hits on plain materials (the caller
-// overwrites the others with surface_at), the environment for misses; `still` (camera == prev_camera): only
-// animated instances' hits get a motion vector. ~250 flops per pixel in lanes, and ~20 scalar loads per distinct
-// triangle of each vector.
+// Writes pixels [first_pixel, first_pixel + count) of every G-buffer plane except `jitter` (and `packed` where it is
+// sized) from slots [0, count) of `hits` (count <= kTileWidth): surface_at's values for hits on plain materials
+// (the caller overwrites the others with surface_at), the environment for misses; `still` (camera ==
+// prev_camera): only animated instances' hits get a motion vector. ~250 flops per pixel in lanes (~60 more for
+// the packed surface), and ~20 scalar loads per distinct triangle of each vector.
 void shade_gbuffer_lanes(const GBufferInstances& instances, const Camera& camera, const Camera& prev_camera, bool still,
                          const vec3& environment, const PrimaryHitLanes& hits, int count, size_t first_pixel,
                          GBuffer& out);
