@@ -244,21 +244,16 @@ void triangle_corners(D d, const GBufferInstances& instances, const PrimaryHitLa
   }
 }
 
-// One vector of slots [s, s + lanes): writes the first `count` of them to pixels [pixel, pixel + n).
-void shade(D d, const GBufferInstances& instances, const Cameras& c, const PrimaryHitLanes& h, int s, int count,
-           size_t pixel, GBuffer& out) {
-  const DU du;
+// One vector of hits' surfaces, surface_at's arithmetic for plain materials: world_triangle, the position, the
+// geometric and shading normals turned to wo's side, and whether wo sees the front face.
+struct Surface {
+  V3 position, ng, ns;
+  M front;
+};
+Surface surface(D d, const GBufferInstances& instances, const PrimaryHitLanes& h, int s, VU instance, M hit,
+                const Records& r, const V3& wo) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
-  const VU no_hit = hn::Set(du, kNoHit);
-  const VU instance = hn::IfThenElse(hn::FirstN(du, size_t(count)), hn::Load(du, h.instance + s), no_hit);
-  const M hit = hn::RebindMask(d, hn::Ne(instance, no_hit));
-  HWY_ALIGN float table[GBufferInstances::kFields * (HWY_MAX_BYTES / sizeof(float))];
-  const Records r = instance_records(d, instances.records.data(), h.instance + s, instance, hit, table);
   const V u = hn::Load(d, h.u + s), v = hn::Load(d, h.v + s);
-  const V3 dir = load3(d, h.dir[0], h.dir[1], h.dir[2], s);
-  const V film_x = hn::Load(d, h.film[0] + s), film_y = hn::Load(d, h.film[1] + s);
-  const V3 wo = neg(dir);
-
   // world_triangle: the corners in world space.
   V3 p[3], vn[3];
   triangle_corners(d, instances, h, s, instance, hit, p, vn);
@@ -278,6 +273,27 @@ void shade(D d, const GBufferInstances& instances, const Cameras& c, const Prima
   ns = select(hn::Lt(dot(ns, n_front), zero), neg(ns), ns);
   ns = select(front, ns, neg(ns));
   ns = select(hn::Le(dot(ns, wo), hn::Set(d, 1e-4f)), ng, ns);
+  return {position, ng, ns, front};
+}
+
+// One vector of slots [s, s + lanes): writes the first `count` of them to pixels [pixel, pixel + n).
+void shade(D d, const GBufferInstances& instances, const Cameras& c, const PrimaryHitLanes& h, int s, int count,
+           size_t pixel, GBuffer& out) {
+  const DU du;
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+  const VU no_hit = hn::Set(du, kNoHit);
+  const VU instance = hn::IfThenElse(hn::FirstN(du, size_t(count)), hn::Load(du, h.instance + s), no_hit);
+  const M hit = hn::RebindMask(d, hn::Ne(instance, no_hit));
+  HWY_ALIGN float table[GBufferInstances::kFields * (HWY_MAX_BYTES / sizeof(float))];
+  const Records r = instance_records(d, instances.records.data(), h.instance + s, instance, hit, table);
+  const V3 dir = load3(d, h.dir[0], h.dir[1], h.dir[2], s);
+  const V film_x = hn::Load(d, h.film[0] + s), film_y = hn::Load(d, h.film[1] + s);
+  const V3 wo = neg(dir);
+
+  const Surface surf = surface(d, instances, h, s, instance, hit, r, wo);
+  const V3& position = surf.position;
+  const V3 &ng = surf.ng, &ns = surf.ns;
+  const M front = surf.front;
 
   // write_pixel: depth, the motion vector of the point (through last frame's instance transform if animated)
   // or, for a miss, of the direction (Camera::project of prev_eye + dir); 0 where neither moved.
@@ -369,6 +385,61 @@ void ShadeGBufferLanes(const GBufferInstances& instances, const Camera& camera, 
   hwy::FlushStream();  // the streaming stores are seen before any later store
 }
 
+// surface_at for slots [0, count) of `hits` on plain materials (others and misses are left alone): the fields of
+// SurfacePoint a path vertex reads, in lanes, then written out slot by slot.
+void SurfacePointsLanes(const GBufferInstances& instances, const PrimaryHitLanes& hits, int count, SurfacePoint* out) {
+  const D d;
+  const DU du;
+  const int lanes = int(hn::Lanes(d));
+  constexpr int kMax = HWY_MAX_BYTES / sizeof(float);
+  for (int s = 0; s < count; s += lanes) {
+    const VU no_hit = hn::Set(du, kNoHit);
+    const VU instance =
+        hn::IfThenElse(hn::FirstN(du, size_t(std::min(lanes, count - s))), hn::Load(du, hits.instance + s), no_hit);
+    const M hit = hn::RebindMask(d, hn::Ne(instance, no_hit));
+    HWY_ALIGN float table[GBufferInstances::kFields * kMax];
+    const Records r = instance_records(d, instances.records.data(), hits.instance + s, instance, hit, table);
+    const V3 wo = neg(load3(d, hits.dir[0], hits.dir[1], hits.dir[2], s));
+    const Surface surf = surface(d, instances, hits, s, instance, hit, r, wo);
+    const V3 emission =
+        zero_unless(hn::Or(surf.front, hn::Gt(r(d, F::kDoubleSided), hn::Zero(d))), r.vec3_at(d, F::kEmission));
+    // The lanes' values, then each plain hit's SurfacePoint from them.
+    HWY_ALIGN float lane[13][kMax];
+    const V values[13] = {surf.position.x,
+                          surf.position.y,
+                          surf.position.z,
+                          surf.ng.x,
+                          surf.ng.y,
+                          surf.ng.z,
+                          surf.ns.x,
+                          surf.ns.y,
+                          surf.ns.z,
+                          emission.x,
+                          emission.y,
+                          emission.z,
+                          hn::IfThenElseZero(surf.front, hn::Set(d, 1.0f))};
+    for (int k = 0; k < 13; ++k) hn::Store(values[k], d, lane[k]);
+    for (int j = 0; j < lanes && s + j < count; ++j) {
+      const uint32_t id = hits.instance[s + j];
+      if (id == kNoHit || !instances.plain[id]) continue;
+      const float* record = instances.records.data() + size_t(id) * GBufferInstances::kFields;
+      SurfacePoint& sp = out[s + j];
+      sp.position = vec3(lane[0][j], lane[1][j], lane[2][j]);
+      sp.geometric_normal = vec3(lane[3][j], lane[4][j], lane[5][j]);
+      sp.shading_normal = vec3(lane[6][j], lane[7][j], lane[8][j]);
+      sp.base_color = vec3(record[F::kBaseColor], record[F::kBaseColor + 1], record[F::kBaseColor + 2]);
+      sp.metallic = record[F::kMetallic];
+      sp.roughness = record[F::kRoughness];
+      sp.specular = record[F::kSpecular];
+      sp.specular_f0 = vec3(record[F::kSpecularF0], record[F::kSpecularF0 + 1], record[F::kSpecularF0 + 2]);
+      sp.emission = vec3(lane[9][j], lane[10][j], lane[11][j]);
+      sp.instance = id;
+      sp.prim = hits.prim[s + j];
+      sp.front_face = lane[12][j] > 0.0f;
+    }
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace candela
 HWY_AFTER_NAMESPACE();
@@ -378,6 +449,12 @@ namespace candela {
 
 HWY_EXPORT(ShadeGBufferLanes);
 HWY_EXPORT(PrimaryRaysLanes);
+HWY_EXPORT(SurfacePointsLanes);
+
+void surface_points_lanes(const GBufferInstances& instances, const PrimaryHitLanes& hits, int count,
+                          SurfacePoint* out) {
+  HWY_DYNAMIC_DISPATCH(SurfacePointsLanes)(instances, hits, count, out);
+}
 
 void primary_rays_lanes(const Camera& camera, int x0, int y, int count, const float* jitter_x, const float* jitter_y,
                         PrimaryHitLanes& row, vec2* jitter) {

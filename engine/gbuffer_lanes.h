@@ -9,6 +9,7 @@
 
 #include "engine/camera.h"
 #include "engine/gbuffer.h"
+#include "engine/surface.h"
 #include "engine/tiles.h"
 
 namespace candela {
@@ -61,6 +62,11 @@ struct PrimaryHitLanes {
 // jitter[s] = the jitter. ~20 flops per pixel, in lanes.
 void primary_rays_lanes(const Camera& camera, int x0, int y, int count, const float* jitter_x, const float* jitter_y,
                         PrimaryHitLanes& row, vec2* jitter);
+
+// surface_at(scene, instance, prim, (u, v), -dir) for the hits of slots [0, count) of `hits` (count <= kTileWidth;
+// film is not read) whose material is plain (GBufferInstances::plain), into out[slot]; other slots are left
+// alone. The same bits as surface_at (tests/test_path_tracer.cpp), ~250 flops per hit in lanes.
+void surface_points_lanes(const GBufferInstances& instances, const PrimaryHitLanes& hits, int count, SurfacePoint* out);
 
 // Writes pixels [first_pixel, first_pixel + count) of every G-buffer plane except `jitter` (and `packed` where it is
 // sized) from slots [0, count) of `hits` (count <= kTileWidth): surface_at's values for hits on plain materials

@@ -106,18 +106,19 @@ struct PathState {
 // One bounce of a path whose ray has been traced to `hit`: adds the emission the ray reached (weighted by
 // the power heuristic against NEE's chance of the same point), draws the vertex's next-event estimate
 // (leaving its shadow ray pending) and the next ray with Russian roulette, or ends the path (alive =
-// false). `first_hit`, if given, receives the surface the start's ray hits. Reads the scene, light list
-// and sampler; draws up to 8 random numbers (4 for the light sample, 3 for the BSDF sample, 1 for roulette).
+// false). `first_hit`, if given, receives the surface the start's ray hits; `surface`, if given, is the hit's
+// surface_at, computed by the caller. Reads the scene, light list and sampler; draws up to 8 random numbers (4
+// for the light sample, 3 for the BSDF sample, 1 for roulette).
 template <LightSampler S, class Stream>
 void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams& params, PathState& st, const Hit& hit,
-                 Stream& rng, std::optional<SurfacePoint>* first_hit) {
+                 Stream& rng, std::optional<SurfacePoint>* first_hit, const SurfacePoint* surface = nullptr) {
   st.alive = false;
   if (!hit.valid()) {
     st.L += st.beta * view.lights.environment();  // the environment is reached by BSDF sampling only
     return;
   }
   const vec3 wo = -st.ray.direction;
-  SurfacePoint sp = surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, wo);
+  SurfacePoint sp = surface ? *surface : surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, wo);
   const bool first = st.first;
   st.first = false;
   if (first && first_hit) *first_hit = sp;

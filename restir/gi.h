@@ -46,6 +46,7 @@ void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& 
     vec2 tag;
     float u;  // the reservoir's uniform
   };
+  const GBufferInstances instances(view.scene);  // the path vertices' surfaces in lanes
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     std::vector<Start> starts;
     std::vector<PathState> paths;
@@ -75,7 +76,7 @@ void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& 
       }
     // The tile's paths, to their ends; x_s is each path's first hit.
     std::vector<std::optional<SurfacePoint>> x_s(paths.size());
-    rays.add(trace_paths(view, sampler, path, paths, rngs, &x_s));
+    rays.add(trace_paths(view, sampler, path, paths, rngs, &x_s, &instances));
     // Per path: its sample x_s, with the target at its own pixel and the area density of x_s.
     for (size_t k = 0; k < paths.size(); ++k) {
       const Start& start = starts[k];

@@ -193,10 +193,12 @@ TEST(PathTracer, PointLightOverLambertFloor) {
 
 // trace_paths (many paths bounce by bounce, rays in packets) gives trace_path's bits: each path's
 // radiance, its first hit and the number of rays, on manylights (2,048 emitters: NEE, MIS on emission) and
-// city (sky: paths that escape), 64 paths per pixel row so packets mix lanes of different depths. Half
-// the paths start with emission at their first hit not counted, as ReSTIR GI's do.
+// city (sky: paths that escape; moving cars), 64 paths per pixel row so packets mix lanes of different
+// depths. Half the paths start with emission at their first hit not counted, as ReSTIR GI's do. With the
+// scene's GBufferInstances too, as ReSTIR GI runs it: the vertices' surfaces from surface_points_lanes.
 TEST(PathBatch, GivesTracePathBits) {
-  for (const std::string name : {"manylights", "city"}) {
+  for (const auto& [name, lanes] :
+       {std::pair{"manylights", false}, {"manylights", true}, {"city", false}, {"city", true}}) {
     const Scene scene = make_builtin_scene(name);
     const Tracer tracer(scene);
     const LightList lights(scene);
@@ -217,7 +219,9 @@ TEST(PathBatch, GivesTracePathBits) {
     std::vector<PathState> batch = paths;
     std::vector<Rng> batch_rngs = rngs;
     std::vector<std::optional<SurfacePoint>> batch_hits(paths.size());
-    const uint64_t batch_rays = trace_paths(view, sampler, params, batch, batch_rngs, &batch_hits);
+    const GBufferInstances instances(scene);
+    const uint64_t batch_rays =
+        trace_paths(view, sampler, params, batch, batch_rngs, &batch_hits, lanes ? &instances : nullptr);
     uint64_t rays = 0;
     int lit = 0, escaped = 0;
     for (size_t k = 0; k < paths.size(); ++k) {
@@ -226,17 +230,19 @@ TEST(PathBatch, GivesTracePathBits) {
       const vec3 L = trace_path(view, sampler, params, start, rngs[k], rays, &hit);
       const vec3 batch_L = batch[k].radiance();
       ASSERT_EQ(std::memcmp(&L, &batch_L, sizeof(vec3)), 0)
-          << name << " path " << k << ": " << L.x << " against " << batch_L.x;
+          << name << (lanes ? " (lanes)" : "") << " path " << k << ": " << L.x << " against " << batch_L.x;
       ASSERT_EQ(hit.has_value(), batch_hits[k].has_value()) << name << " path " << k;
       if (hit) {
         ASSERT_EQ(std::memcmp(&hit->position, &batch_hits[k]->position, sizeof(vec3)), 0) << name << " path " << k;
+        ASSERT_EQ(std::memcmp(&hit->shading_normal, &batch_hits[k]->shading_normal, sizeof(vec3)), 0)
+            << name << " path " << k;
       }
       lit += max_component(L) > 0.0f;
       escaped += !hit;
     }
     EXPECT_EQ(rays, batch_rays) << name;
     EXPECT_GT(lit, w * h / 2) << name;  // the comparison covers lit paths, not only black ones
-    std::printf("%s: %d of %d paths lit, %d escaped, %llu rays\n", name.c_str(), lit, w * h, escaped,
+    std::printf("%s%s: %d of %d paths lit, %d escaped, %llu rays\n", name, lanes ? " (lanes)" : "", lit, w * h, escaped,
                 (unsigned long long)rays);
   }
 }
