@@ -137,7 +137,7 @@ void trace_gbuffer(const Scene& scene, const Tracer& tracer, const Camera& camer
       if (params.simd)
         shade_gbuffer_lanes(instances, camera, prev_camera, still, scene.environment, row, count, first, out);
       for (int s = 0; s < count; ++s) {
-        if (params.simd && (row.instance[s] == kNoHit || instances.plain[row.instance[s]])) continue;
+        if (params.simd && (row.instance[s] == kNoHit || instances.in_lanes(row.instance[s]))) continue;
         const Hit hit{0.0f, row.instance[s], row.prim[s], vec2(row.u[s], row.v[s])};
         write_pixel(scene, instances.prev_from_current, camera, prev_camera, still, hit,
                     vec3(row.dir[0][s], row.dir[1][s], row.dir[2][s]), vec2(row.film[0][s], row.film[1][s]),

@@ -100,6 +100,22 @@ Records instance_records(D d, const float* records, const uint32_t* lane_instanc
   return {nullptr, table};
 }
 
+// Slots [s, s + count) of a row of hits as one vector (count <= lanes; later lanes count as misses): their
+// instances, which lanes hit, and the hits' records (`table`: kRecordTable floats the records may point into).
+constexpr size_t kRecordTable = GBufferInstances::kFields * (HWY_MAX_BYTES / sizeof(float));
+struct Hits {
+  VU instance;
+  M hit;
+  Records records;
+};
+Hits hits_at(D d, const GBufferInstances& instances, const PrimaryHitLanes& h, int s, int count, float* table) {
+  const DU du;
+  const VU no_hit = hn::Set(du, kNoHit);
+  const VU instance = hn::IfThenElse(hn::FirstN(du, size_t(count)), hn::Load(du, h.instance + s), no_hit);
+  const M hit = hn::RebindMask(d, hn::Ne(instance, no_hit));
+  return {instance, hit, instance_records(d, instances.records.data(), h.instance + s, instance, hit, table)};
+}
+
 M is_finite(D d, const V3& v) {
   const V inf = hn::Set(d, kInfinity);
   return hn::And(hn::And(hn::Lt(hn::Abs(v.x), inf), hn::Lt(hn::Abs(v.y), inf)), hn::Lt(hn::Abs(v.z), inf));
@@ -245,10 +261,11 @@ void triangle_corners(D d, const GBufferInstances& instances, const PrimaryHitLa
 }
 
 // One vector of hits' surfaces, surface_at's arithmetic for plain materials: world_triangle, the position, the
-// geometric and shading normals turned to wo's side, and whether wo sees the front face.
+// geometric and shading normals turned to wo's side, whether wo sees the front face, and the emission.
 struct Surface {
   V3 position, ng, ns;
   M front;
+  V3 emission;
 };
 Surface surface(D d, const GBufferInstances& instances, const PrimaryHitLanes& h, int s, VU instance, M hit,
                 const Records& r, const V3& wo) {
@@ -273,27 +290,27 @@ Surface surface(D d, const GBufferInstances& instances, const PrimaryHitLanes& h
   ns = select(hn::Lt(dot(ns, n_front), zero), neg(ns), ns);
   ns = select(front, ns, neg(ns));
   ns = select(hn::Le(dot(ns, wo), hn::Set(d, 1e-4f)), ng, ns);
-  return {position, ng, ns, front};
+  // surface_at: the material's emission on the front side or both (kEmission is 0 unless it emits).
+  const V3 emission = zero_unless(hn::Or(front, hn::Gt(r(d, F::kDoubleSided), zero)), r.vec3_at(d, F::kEmission));
+  return {position, ng, ns, front, emission};
 }
 
 // One vector of slots [s, s + lanes): writes the first `count` of them to pixels [pixel, pixel + n).
 void shade(D d, const GBufferInstances& instances, const Cameras& c, const PrimaryHitLanes& h, int s, int count,
            size_t pixel, GBuffer& out) {
   const DU du;
-  const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
-  const VU no_hit = hn::Set(du, kNoHit);
-  const VU instance = hn::IfThenElse(hn::FirstN(du, size_t(count)), hn::Load(du, h.instance + s), no_hit);
-  const M hit = hn::RebindMask(d, hn::Ne(instance, no_hit));
-  HWY_ALIGN float table[GBufferInstances::kFields * (HWY_MAX_BYTES / sizeof(float))];
-  const Records r = instance_records(d, instances.records.data(), h.instance + s, instance, hit, table);
+  const V zero = hn::Zero(d);
+  HWY_ALIGN float table[kRecordTable];
+  const Hits hits = hits_at(d, instances, h, s, count, table);
+  const VU& instance = hits.instance;
+  const M hit = hits.hit;
+  const Records& r = hits.records;
   const V3 dir = load3(d, h.dir[0], h.dir[1], h.dir[2], s);
   const V film_x = hn::Load(d, h.film[0] + s), film_y = hn::Load(d, h.film[1] + s);
-  const V3 wo = neg(dir);
 
-  const Surface surf = surface(d, instances, h, s, instance, hit, r, wo);
+  const Surface surf = surface(d, instances, h, s, instance, hit, r, neg(dir));
   const V3& position = surf.position;
-  const V3 &ng = surf.ng, &ns = surf.ns;
-  const M front = surf.front;
+  const V3 &ng = surf.ng, &ns = surf.ns, &emission = surf.emission;
 
   // write_pixel: depth, the motion vector of the point (through last frame's instance transform if animated)
   // or, for a miss, of the direction (Camera::project of prev_eye + dir); 0 where neither moved.
@@ -315,8 +332,7 @@ void shade(D d, const GBufferInstances& instances, const Cameras& c, const Prima
   }
   store_first(d, motion_x, motion_y, count, out.motion.data() + pixel);
 
-  // surface_at: the material's constants; emission on the front side or both (kEmission is 0 unless it emits).
-  const V3 emission = zero_unless(hn::Or(front, hn::Gt(r(d, F::kDoubleSided), zero)), r.vec3_at(d, F::kEmission));
+  // surface_at: the material's constants.
   const V3 material{r(d, F::kRoughness), r(d, F::kMetallic), r(d, F::kSpecular)};
   store_first(d, zero_unless(hit, position), count, out.position.data() + pixel);
   store_first(d, zero_unless(hit, ns), count, out.shading_normal.data() + pixel);
@@ -389,20 +405,14 @@ void ShadeGBufferLanes(const GBufferInstances& instances, const Camera& camera, 
 // SurfacePoint a path vertex reads, in lanes, then written out slot by slot.
 void SurfacePointsLanes(const GBufferInstances& instances, const PrimaryHitLanes& hits, int count, SurfacePoint* out) {
   const D d;
-  const DU du;
   const int lanes = int(hn::Lanes(d));
   constexpr int kMax = HWY_MAX_BYTES / sizeof(float);
   for (int s = 0; s < count; s += lanes) {
-    const VU no_hit = hn::Set(du, kNoHit);
-    const VU instance =
-        hn::IfThenElse(hn::FirstN(du, size_t(std::min(lanes, count - s))), hn::Load(du, hits.instance + s), no_hit);
-    const M hit = hn::RebindMask(d, hn::Ne(instance, no_hit));
-    HWY_ALIGN float table[GBufferInstances::kFields * kMax];
-    const Records r = instance_records(d, instances.records.data(), hits.instance + s, instance, hit, table);
+    HWY_ALIGN float table[kRecordTable];
+    const Hits at = hits_at(d, instances, hits, s, std::min(lanes, count - s), table);
     const V3 wo = neg(load3(d, hits.dir[0], hits.dir[1], hits.dir[2], s));
-    const Surface surf = surface(d, instances, hits, s, instance, hit, r, wo);
-    const V3 emission =
-        zero_unless(hn::Or(surf.front, hn::Gt(r(d, F::kDoubleSided), hn::Zero(d))), r.vec3_at(d, F::kEmission));
+    const Surface surf = surface(d, instances, hits, s, at.instance, at.hit, at.records, wo);
+    const V3& emission = surf.emission;
     // The lanes' values, then each plain hit's SurfacePoint from them.
     HWY_ALIGN float lane[13][kMax];
     const V values[13] = {surf.position.x,
@@ -421,7 +431,7 @@ void SurfacePointsLanes(const GBufferInstances& instances, const PrimaryHitLanes
     for (int k = 0; k < 13; ++k) hn::Store(values[k], d, lane[k]);
     for (int j = 0; j < lanes && s + j < count; ++j) {
       const uint32_t id = hits.instance[s + j];
-      if (id == kNoHit || !instances.plain[id]) continue;
+      if (!instances.in_lanes(id)) continue;
       const float* record = instances.records.data() + size_t(id) * GBufferInstances::kFields;
       SurfacePoint& sp = out[s + j];
       sp.position = vec3(lane[0][j], lane[1][j], lane[2][j]);

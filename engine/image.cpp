@@ -64,16 +64,20 @@ struct SrgbCodes {
   }
 };
 
+// Built on first use (one initialisation check per call: tonemap_srgb8 makes one for its three channels).
+const SrgbCodes& srgb_codes() {
+  static const SrgbCodes codes;
+  return codes;
+}
+
 }  // namespace
 
-uint8_t srgb8(float m) {
-  static const SrgbCodes codes;
-  return codes.code(m);
-}
+uint8_t srgb8(float m) { return srgb_codes().code(m); }
 
 std::array<uint8_t, 3> tonemap_srgb8(const vec3& linear, float exposure) {
   const vec3 mapped = filmic(linear, exposure);
-  return {srgb8(mapped.x), srgb8(mapped.y), srgb8(mapped.z)};
+  const SrgbCodes& codes = srgb_codes();
+  return {codes.code(mapped.x), codes.code(mapped.y), codes.code(mapped.z)};
 }
 
 static bool has_extension(const std::string& path, const char* ext) {

@@ -51,7 +51,7 @@ uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerPa
     // The bounce of each path: emission, its next-event estimate's shadow ray, its next ray.
     for (size_t j = 0; j < live.size(); ++j) {
       const uint32_t k = live[j];
-      const bool lanes = instances && hits[k].valid() && instances->plain[hits[k].instance];
+      const bool lanes = instances && instances->in_lanes(hits[k].instance);
       path_bounce(view, sampler, params, paths[k], hits[k], rngs[k], first_hits ? &(*first_hits)[k] : nullptr,
                   lanes ? &surfaces[j] : nullptr);
     }

@@ -31,7 +31,7 @@ static RTCDevice shared_device() {
   return device;
 }
 
-void RayPacket16::start(int lane, const vec3& origin, float tmin, float tmax) {
+void RayPacket16::start(int lane, vec3 origin, float tmin, float tmax) {
   RTCRay16& r = rayhit.ray;
   r.org_x[lane] = origin.x;
   r.org_y[lane] = origin.y;
@@ -55,19 +55,15 @@ void RayPacket16::set(int lane, const Ray& ray) {
 }
 
 void RayPacket16::set_row4(int r, const vec3& origin, const float* dx, const float* dy, const float* dz, int n) {
-  // start()'s fields written field by field from locals, so that each field is one 4-wide store (through the
-  // pointers the compiler would have to assume every store may change origin and the directions).
-  const float ox = origin.x, oy = origin.y, oz = origin.z;
+  // From local copies of the origin and directions, so that each field is one 4-wide store (through the
+  // references the compiler would have to assume every store may change them).
+  const vec3 o = origin;
   float x[4], y[4], z[4];
   std::memcpy(x, dx, sizeof x), std::memcpy(y, dy, sizeof y), std::memcpy(z, dz, sizeof z);
-  RTCRay16& ray = rayhit.ray;
   for (int k = 0, lane = 4 * r; k < 4; ++k, ++lane) {
-    ray.org_x[lane] = ox, ray.org_y[lane] = oy, ray.org_z[lane] = oz;
-    ray.dir_x[lane] = x[k], ray.dir_y[lane] = y[k], ray.dir_z[lane] = z[k];
-    ray.tnear[lane] = 0.0f, ray.tfar[lane] = kInfinity, ray.time[lane] = 0.0f;
-    ray.mask[lane] = 0xffffffffu, ray.id[lane] = unsigned(lane), ray.flags[lane] = 0;
-    rayhit.hit.geomID[lane] = rayhit.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
-    valid[lane] = k < n ? -1 : 0;
+    start(lane, o, 0.0f, kInfinity);
+    rayhit.ray.dir_x[lane] = x[k], rayhit.ray.dir_y[lane] = y[k], rayhit.ray.dir_z[lane] = z[k];
+    if (k >= n) set_inactive(lane);
   }
 }
 

@@ -48,8 +48,9 @@ struct alignas(64) RayPacket16 {
   void set_row4(int r, const vec3& origin, const float* dx, const float* dy, const float* dz, int n);
 
  private:
-  // Everything of an active lane but its direction: origin, [tmin, tmax], no hit yet.
-  void start(int lane, const vec3& origin, float tmin, float tmax);
+  // Everything of an active lane but its direction: origin, [tmin, tmax], no hit yet. The origin by value: no
+  // store into the packet can change it, so set_row4's loop keeps it in registers.
+  void start(int lane, vec3 origin, float tmin, float tmax);
 };
 
 // Sets flush-to-zero and denormals-are-zero for the calling thread (Embree's advice for speed).
