@@ -199,7 +199,7 @@ inline void draw_bsdf_candidates(const GBuffer& g, const DiParams& params, int s
     if (lanes) {
       // The exact receiver's shading normal, alpha and lobe probability and wo (the same as the packed
       // receiver's: both come from the G-buffer's position) from the lanes.
-      const ReceiverLanes::BsdfPlanes& t = batch.lanes.exact;
+      const BsdfLanes& t = batch.lanes.exact;
       const Frame frame = Frame::from_normal(vec3(t.nx[slot], t.ny[slot], t.nz[slot]));
       const vec3 wo(batch.lanes.wox[slot], batch.lanes.woy[slot], batch.lanes.woz[slot]);
       if (sample_bsdf_direction(frame, t.alpha[slot], wo, ub, lobe, t.p_specular[slot], c.sample.wi) &&
@@ -220,7 +220,7 @@ inline void draw_bsdf_candidates(const GBuffer& g, const DiParams& params, int s
 inline void evaluate_bsdf_candidates(const DiParams& params, int slots, DiCandidateBatch& batch) {
   for (int k = 0; k < params.bsdf_candidates; ++k) {
     DirectionLanes& lanes = batch.directions[size_t(k)];
-    evaluate_direction_lanes(batch.lanes, lanes, slots);
+    evaluate_bsdf_lanes(batch.lanes.exact, batch.lanes.wox, batch.lanes.woy, batch.lanes.woz, slots, false, lanes);
     for (int s = 0; s < slots; ++s) {
       if (lanes.active[s] == 0.0f) continue;
       BsdfSample& sample = batch.bsdf[size_t(k) * kLaneSlots + size_t(s)].sample;

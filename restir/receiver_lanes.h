@@ -33,16 +33,13 @@ void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slo
 // Exact G-buffer surfaces gathered into one plane per field (slot s: one pixel; set() transposes).
 struct ExactSurfaceLanes {
   alignas(64) float px[kLaneSlots], py[kLaneSlots], pz[kLaneSlots];
-  alignas(64) float nx[kLaneSlots], ny[kLaneSlots], nz[kLaneSlots];  // shading normal
   alignas(64) float gx[kLaneSlots], gy[kLaneSlots], gz[kLaneSlots];  // geometric normal
-  alignas(64) float base[3][kLaneSlots], specular_f0[3][kLaneSlots];
-  alignas(64) float roughness[kLaneSlots], metallic[kLaneSlots], specular[kLaneSlots];
+  BsdfMaterialLanes material;                                        // shading normal and material
   void set(int slot, const GBuffer& g, size_t i) {
     px[slot] = g.position[i].x, py[slot] = g.position[i].y, pz[slot] = g.position[i].z;
-    nx[slot] = g.shading_normal[i].x, ny[slot] = g.shading_normal[i].y, nz[slot] = g.shading_normal[i].z;
     gx[slot] = g.geometric_normal[i].x, gy[slot] = g.geometric_normal[i].y, gz[slot] = g.geometric_normal[i].z;
-    for (int c = 0; c < 3; ++c) base[c][slot] = g.albedo[i][c], specular_f0[c][slot] = g.specular_f0[i][c];
-    roughness[slot] = g.material[i].x, metallic[slot] = g.material[i].y, specular[slot] = g.material[i].z;
+    material.set(slot, g.shading_normal[i], g.albedo[i], g.material[i].y, g.material[i].x, g.material[i].z,
+                 g.specular_f0[i]);
   }
 };
 
@@ -50,8 +47,7 @@ struct ExactSurfaceLanes {
 // GBuffer::bsdf and Bsdf::wo_terms, all of them: also g1_o and p_specular, which BSDF sampling reads) for
 // `surfaces` seen from `eye`. Slots whose surface is empty (no hit) get terms nobody may read. Cost per
 // receiver: ~250 flops and 6 table gathers, in lanes.
-void build_exact_receiver_lanes(const ExactSurfaceLanes& surfaces, const vec3& eye, int slots,
-                                ReceiverLanes::BsdfPlanes& exact);
+void build_exact_receiver_lanes(const ExactSurfaceLanes& surfaces, const vec3& eye, int slots, BsdfLanes& exact);
 
 // Slots [0, slots) of `out`: the whole exact receivers of `surfaces` seen from `eye` (di_exact_receiver):
 // position, geometric normal and wo, and the exact BSDF planes as build_exact_receiver_lanes builds them; the

@@ -10,13 +10,11 @@
 #include <functional>
 #include <vector>
 
-#include "engine/bsdf.h"
+#include "engine/bsdf_lanes.h"
 #include "engine/lights.h"
 #include "engine/tiles.h"
 
 namespace candela {
-
-inline constexpr int kLaneSlots = kTileWidth;  // pixels per batch: one tile row
 
 // Per pixel of a batch, what the target function and the BSDF density need of the receiver: the packed
 // surface's point, normals, direction to the eye and BSDF terms (the target; build_receiver_lanes in
@@ -25,16 +23,7 @@ struct ReceiverLanes {
   alignas(64) float px[kLaneSlots], py[kLaneSlots], pz[kLaneSlots];
   alignas(64) float gx[kLaneSlots], gy[kLaneSlots], gz[kLaneSlots];  // geometric normal
   alignas(64) float wox[kLaneSlots], woy[kLaneSlots], woz[kLaneSlots];
-  struct BsdfPlanes {  // BsdfWoTerms, one plane per component
-    alignas(64) float nx[kLaneSlots], ny[kLaneSlots], nz[kLaneSlots];
-    alignas(64) float cos_o[kLaneSlots], alpha[kLaneSlots], s_o[kLaneSlots];
-    alignas(64) float f0[3][kLaneSlots], f90[kLaneSlots], ms[3][kLaneSlots], ms_o[kLaneSlots];
-    alignas(64) float base_o[3][kLaneSlots], d_f0[3][kLaneSlots], d_ms[3][kLaneSlots], d_f90[kLaneSlots];
-    alignas(64) int32_t albedo_row[kLaneSlots];
-    alignas(64) float albedo_weight[kLaneSlots], g1_o[kLaneSlots], p_specular[kLaneSlots];
-    void set(int slot, const BsdfWoTerms& t);
-  };
-  BsdfPlanes target, exact;
+  BsdfLanes target, exact;
   // Slot `slot`: the receiver at p (geometric normal ng) seen along wo, with the two BSDFs' terms, one
   // scalar at a time (the tests' reference for the kernels).
   void set(int slot, const vec3& p, const vec3& ng, const vec3& wo, const BsdfWoTerms& target_bsdf,
@@ -54,14 +43,6 @@ struct CandidateLanes {
   LightPoint point(int slot) const;  // the point set() stored
 };
 
-// One direction per pixel of a batch, leaving its exact receiver (BSDF sampling's candidates): where `active` is
-// 1, the kernel writes the exact BSDF's value and sampling density there.
-struct DirectionLanes {
-  alignas(64) float x[kLaneSlots], y[kLaneSlots], z[kLaneSlots];
-  alignas(64) float active[kLaneSlots];
-  alignas(64) float f[3][kLaneSlots], pdf[kLaneSlots];
-};
-
 // The unshadowed contribution of one sample per pixel of a batch (di_contribution's value), per channel.
 struct ContributionLanes {
   alignas(64) float value[3][kLaneSlots];
@@ -72,9 +53,6 @@ struct ContributionLanes {
 // and 8 table gathers, in lanes.
 void evaluate_candidate_lanes(const ReceiverLanes& receivers, CandidateLanes* candidates, int count, int slots,
                               bool with_bsdf_pdf);
-// Bsdf::eval and Bsdf::pdf of the receivers' exact BSDFs at the directions of slots [0, slots); inactive slots
-// get 0. Cost per direction: ~60 flops and 4 table gathers, in lanes.
-void evaluate_direction_lanes(const ReceiverLanes& receivers, DirectionLanes& directions, int slots);
 // di_contribution's value at the receivers' exact BSDFs (their position, geometric normal, wo and exact planes)
 // of the active points of slots [0, slots) of `samples`; inactive slots get 0. The final shading. Cost per
 // sample: ~80 flops and 4 table gathers, in lanes.

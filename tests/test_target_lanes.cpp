@@ -46,7 +46,7 @@ int expect_same_bits(const Terms& terms, int32_t row_lanes, int32_t row_scalar, 
 
 // Every term of slot s of two BSDF plane sets, named: (lanes, scalar) pairs for same_bits. with_sampling adds the
 // two terms only BSDF sampling reads (G1 and the lobe probability), which the packed receivers leave 0.
-Terms bsdf_terms(const ReceiverLanes::BsdfPlanes& a, const ReceiverLanes::BsdfPlanes& b, int s, bool with_sampling) {
+Terms bsdf_terms(const BsdfLanes& a, const BsdfLanes& b, int s, bool with_sampling) {
   Terms terms = {{"nx", {a.nx[s], b.nx[s]}},          {"ny", {a.ny[s], b.ny[s]}},
                  {"nz", {a.nz[s], b.nz[s]}},          {"cos_o", {a.cos_o[s], b.cos_o[s]}},
                  {"alpha", {a.alpha[s], b.alpha[s]}}, {"s_o", {a.s_o[s], b.s_o[s]}},
@@ -177,7 +177,7 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
       if (batch == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
       build_receiver_lanes(*packed, eye, kLaneSlots, *lanes);
       for (int s = 0; s < kLaneSlots; ++s) {
-        const ReceiverLanes::BsdfPlanes &a = lanes->target, &b = scalar->target;
+        const BsdfLanes &a = lanes->target, &b = scalar->target;
         Terms terms = {{"px", {lanes->px[s], scalar->px[s]}},    {"py", {lanes->py[s], scalar->py[s]}},
                        {"pz", {lanes->pz[s], scalar->pz[s]}},    {"gx", {lanes->gx[s], scalar->gx[s]}},
                        {"gy", {lanes->gy[s], scalar->gy[s]}},    {"gz", {lanes->gz[s], scalar->gz[s]}},
@@ -245,7 +245,7 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
       build_exact_receiver_lanes(*surfaces, eye, kLaneSlots, lanes->exact);
       build_exact_receivers(*surfaces, eye, kLaneSlots, *shading);
       evaluate_exact_contribution_lanes(*shading, *points, kLaneSlots, *contributions);
-      const ReceiverLanes::BsdfPlanes &a = lanes->exact, &b = scalar->exact;
+      const BsdfLanes &a = lanes->exact, &b = scalar->exact;
       for (int s = 0; s < kLaneSlots; ++s) {
         compared += expect_same_bits(bsdf_terms(a, b, s, true), a.albedo_row[s], b.albedo_row[s], target, batch, s);
         const DiReceiver& r = receivers[size_t(s)];

@@ -1,0 +1,62 @@
+#pragma once
+// Bsdf (engine/bsdf.h) for up to a tile row of surfaces at once, in SIMD lanes: the constructor and
+// Bsdf::wo_terms, then Bsdf::eval and Bsdf::pdf at one direction per surface, laid out as
+// structure-of-arrays planes so that one vector holds the same term of 8 (AVX2) or 16 (AVX-512) surfaces.
+// The kernels (Google Highway, runtime dispatch) repeat the scalar code's operations in its order, without
+// fused multiply-adds, so they give its bits: ReSTIR's receivers (restir/receiver_lanes.h) and the path
+// vertices of engine/path_batch.h use them, and the scalar Bsdf stays the reference
+// (tests/test_target_lanes.cpp, tests/test_path_batch.cpp).
+#include <cstdint>
+
+#include "engine/bsdf.h"
+#include "engine/tiles.h"
+
+namespace candela {
+
+inline constexpr int kLaneSlots = kTileWidth;  // surfaces per batch: one tile row
+
+// BsdfWoTerms, one plane per component (slot s: one surface).
+struct BsdfLanes {
+  alignas(64) float nx[kLaneSlots], ny[kLaneSlots], nz[kLaneSlots];
+  alignas(64) float cos_o[kLaneSlots], alpha[kLaneSlots], s_o[kLaneSlots];
+  alignas(64) float f0[3][kLaneSlots], f90[kLaneSlots], ms[3][kLaneSlots], ms_o[kLaneSlots];
+  alignas(64) float base_o[3][kLaneSlots], d_f0[3][kLaneSlots], d_ms[3][kLaneSlots], d_f90[kLaneSlots];
+  alignas(64) int32_t albedo_row[kLaneSlots];
+  alignas(64) float albedo_weight[kLaneSlots], g1_o[kLaneSlots], p_specular[kLaneSlots];
+  void set(int slot, const BsdfWoTerms& t);
+};
+
+// What the Bsdf constructor reads (shading normal and material), one plane per component.
+struct BsdfMaterialLanes {
+  alignas(64) float nx[kLaneSlots], ny[kLaneSlots], nz[kLaneSlots];  // shading normal
+  alignas(64) float base[3][kLaneSlots], specular_f0[3][kLaneSlots];
+  alignas(64) float roughness[kLaneSlots], metallic[kLaneSlots], specular[kLaneSlots];
+  void set(int slot, const vec3& shading_normal, const vec3& base_color, float metallic, float roughness,
+           float specular, const vec3& specular_f0);
+};
+
+// One direction per surface of a batch (with wo, the direction it is seen from): where `active` is 1,
+// evaluate_bsdf_lanes writes the BSDF's value and sampling density there.
+struct DirectionLanes {
+  alignas(64) float x[kLaneSlots], y[kLaneSlots], z[kLaneSlots];
+  alignas(64) float active[kLaneSlots];
+  alignas(64) float f[3][kLaneSlots], pdf[kLaneSlots];
+};
+
+// The path vertices of a batch: their BSDFs' parameters and the direction wo each is seen from.
+struct BsdfVertexLanes {
+  BsdfMaterialLanes material;
+  alignas(64) float wox[kLaneSlots], woy[kLaneSlots], woz[kLaneSlots];
+};
+
+// Slots [0, slots) of `out`: Bsdf(...).wo_terms(wo) of each vertex, all terms (also g1_o and p_specular,
+// which sampling and pdf read). Cost per vertex: ~250 flops and 6 table gathers, in lanes.
+void build_bsdf_lanes(const BsdfVertexLanes& vertices, int slots, BsdfLanes& out);
+
+// Slots [0, slots) of `directions`: Bsdf::eval (times |cos| at the shading normal with times_cosine, as the
+// path tracer weighs a light sample) and Bsdf::pdf at each active direction, for the BSDFs `bsdf` seen along
+// the planes (wox, woy, woz); inactive slots get 0. Cost per direction: ~60 flops and 4 table gathers, in lanes.
+void evaluate_bsdf_lanes(const BsdfLanes& bsdf, const float* wox, const float* woy, const float* woz, int slots,
+                         bool times_cosine, DirectionLanes& directions);
+
+}  // namespace candela
