@@ -1,22 +1,100 @@
 #pragma once
 // Many paths traced together, bounce by bounce ("wavefront" order): each bounce traces the closest hits of
-// every live path in packets of 16, runs path_bounce on each path, then traces the bounce's shadow rays in
-// packets. Each path keeps its own random stream and path_bounce is trace_path's own step, so every path
-// gets trace_path's bits (test PathBatch.GivesTracePathBits); what changes is the cost: packets instead of
-// single rays, and one path's memory waits overlapping the next path's arithmetic.
+// every live path in packets of 16, runs path_bounce's steps on groups of paths (bounce_paths), then traces
+// the bounce's shadow rays in packets. Each path keeps its own random stream, and the steps are trace_path's
+// own with the BSDF's arithmetic in SIMD lanes that repeat the scalar code's, so every path gets trace_path's
+// bits (test PathBatch.GivesTracePathBits); what changes is the cost: packets instead of single rays, the BSDF
+// work in lanes, and one path's memory waits overlapping the next path's arithmetic.
 #include <vector>
 
+#include "engine/bsdf_lanes.h"
 #include "engine/gbuffer_lanes.h"
 #include "engine/path_tracer.h"
 
 namespace candela {
 
+// A group of up to kLaneSlots paths in one bounce: their vertices, and the BSDF work of path_bounce in lanes
+// (the BSDFs' terms, the light samples' and the BSDF samples' values and densities).
+struct PathVertexBatch {
+  SurfacePoint sp[kLaneSlots];
+  bool scatters[kLaneSlots] = {};  // arrive_at_vertex's answer
+  float pmf[kLaneSlots] = {};      // the light sample's selection probability
+  LightSample light_sample[kLaneSlots];
+  BsdfVertexLanes vertices;
+  BsdfLanes bsdf;
+  DirectionLanes light, next;  // the light samples' directions, the BSDF samples' directions
+};
+
+// path_bounce for the paths group[0, count) whose rays reached hits[group[j]], in its steps, each over the
+// group: arrive_at_vertex (the surface surfaces[j] where `instances` says the lanes computed it), the BSDFs'
+// terms in lanes, the light samples and BSDF directions (each path's random numbers in path_bounce's order),
+// their BSDF values and densities in lanes, then the light samples' weights (shadow rays left pending) and
+// continue_path. Each path gets path_bounce's bits. Cost per path: path_bounce's, with the BSDF's constructor,
+// wo terms, two evaluations and densities in lanes instead of scalar code.
+template <LightSampler S, class Stream>
+void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParams& params, const uint32_t* group,
+                  int count, const std::vector<Hit>& hits, const SurfacePoint* surfaces,
+                  const GBufferInstances* instances, std::vector<PathState>& paths, std::vector<Stream>& rngs,
+                  std::vector<std::optional<SurfacePoint>>* first_hits, PathVertexBatch& b) {
+  // Arrive: emission, and each vertex's BSDF parameters and wo into the lanes (unused where it does not scatter).
+  for (int j = 0; j < count; ++j) {
+    const uint32_t k = group[j];
+    const SurfacePoint* surface = instances && instances->in_lanes(hits[k].instance) ? &surfaces[j] : nullptr;
+    const vec3 wo = -paths[k].ray.direction;
+    b.scatters[j] = arrive_at_vertex(view, sampler, params, paths[k], hits[k], first_hits ? &(*first_hits)[k] : nullptr,
+                                     surface, b.sp[j]);
+    const SurfacePoint& sp = b.sp[j];
+    b.vertices.material.set(j, sp.shading_normal, sp.base_color, sp.metallic, sp.roughness, sp.specular,
+                            sp.specular_f0);
+    b.vertices.wox[j] = wo.x, b.vertices.woy[j] = wo.y, b.vertices.woz[j] = wo.z;
+  }
+  build_bsdf_lanes(b.vertices, count, b.bsdf);
+  // Draw: each scattering vertex's light sample, then its BSDF direction from the lanes' terms.
+  for (int j = 0; j < count; ++j) {
+    b.light.active[j] = b.next.active[j] = 0.0f;
+    if (!b.scatters[j]) continue;
+    Stream& rng = rngs[group[j]];
+    const SurfacePoint& sp = b.sp[j];
+    if (draw_light_sample(view, sampler, sp, rng, b.pmf[j], b.light_sample[j])) {
+      const vec3& wi = b.light_sample[j].wi;
+      b.light.x[j] = wi.x, b.light.y[j] = wi.y, b.light.z[j] = wi.z, b.light.active[j] = 1.0f;
+    }
+    const vec2 u = rng.next_2d();
+    const float lobe = rng.next_float();
+    const vec3 wo(b.vertices.wox[j], b.vertices.woy[j], b.vertices.woz[j]);
+    vec3 wi;
+    if (sample_bsdf_direction(Frame::from_normal(sp.shading_normal), b.bsdf.alpha[j], wo, u, lobe, b.bsdf.p_specular[j],
+                              wi))
+      b.next.x[j] = wi.x, b.next.y[j] = wi.y, b.next.z[j] = wi.z, b.next.active[j] = 1.0f;
+  }
+  evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, true, b.light);
+  evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, false, b.next);
+  // Finish: the light samples' weights and shadow rays, then the paths that go on.
+  for (int j = 0; j < count; ++j) {
+    if (!b.scatters[j]) continue;
+    PathState& st = paths[group[j]];
+    if (b.light.active[j] > 0.0f) {
+      vec3 contribution;
+      const vec3 f(b.light.f[0][j], b.light.f[1][j], b.light.f[2][j]);
+      st.light_pending = weigh_light_sample(view.tracer, b.sp[j], b.light_sample[j], b.pmf[j], f, b.light.pdf[j],
+                                            st.shadow, contribution);
+      if (st.light_pending) st.light = st.beta * contribution;
+    }
+    // Bsdf::sample accepts a direction of positive density only.
+    if (b.next.active[j] > 0.0f && b.next.pdf[j] > 0.0f) {
+      const BsdfSample bs{vec3(b.next.x[j], b.next.y[j], b.next.z[j]),
+                          vec3(b.next.f[0][j], b.next.f[1][j], b.next.f[2][j]), b.next.pdf[j]};
+      continue_path(view.tracer, params, st, b.sp[j], bs, rngs[group[j]]);
+    }
+  }
+}
+
 // Traces paths[k] with stream rngs[k] to its end (paths[k].radiance() is then trace_path's result);
 // first_hits, if not null, receives per path the surface its start's ray hits. With `instances` (the scene's,
 // GBufferInstances), each bounce's hits on plain materials get their surfaces in SIMD lanes
 // (surface_points_lanes), the others surface_at. Returns the rays traced.
-// Cost: trace_path's per path; rays in packets of 16 in slot order (slots of neighbouring pixels keep
-// the first bounces' packets coherent).
+// Cost: trace_path's per path, less the BSDF work bounce_paths does in lanes; rays in packets of 16 in slot
+// order (slots of neighbouring pixels keep the first bounces' packets coherent).
 template <LightSampler S, class Stream>
 uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerParams& params,
                      std::vector<PathState>& paths, std::vector<Stream>& rngs,
@@ -26,7 +104,8 @@ uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerPa
   std::vector<uint32_t> live(paths.size());
   for (uint32_t k = 0; k < live.size(); ++k) live[k] = k;
   std::vector<Hit> hits(paths.size());
-  std::vector<SurfacePoint> surfaces(instances ? paths.size() : 0);
+  thread_local PathVertexBatch batch;
+  thread_local SurfacePoint surfaces[kLaneSlots];
   uint64_t traced = 0;
   while (!live.empty()) {
     // Closest hits of the live paths' rays.
@@ -35,25 +114,23 @@ uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerPa
     });
     for (uint32_t k : live) bounce.add(paths[k].ray, k);
     bounce.finish();
-    // The surfaces of the hits on plain materials, a tile row's worth of live paths at a time.
-    for (size_t first = 0; instances && first < live.size(); first += kTileWidth) {
-      const int count = int(std::min<size_t>(kTileWidth, live.size() - first));
-      PrimaryHitLanes row;
-      for (int j = 0; j < count; ++j) {
-        const Hit& hit = hits[live[first + size_t(j)]];
-        const vec3& dir = paths[live[first + size_t(j)]].ray.direction;
-        row.instance[j] = hit.instance, row.prim[j] = hit.prim;
-        row.u[j] = hit.barycentric.x, row.v[j] = hit.barycentric.y;
-        row.dir[0][j] = dir.x, row.dir[1][j] = dir.y, row.dir[2][j] = dir.z;
+    // The bounce of each path (emission, its next-event estimate's shadow ray, its next ray), a group of live
+    // paths at a time, with the surfaces of the group's hits on plain materials in lanes first.
+    for (size_t first = 0; first < live.size(); first += kLaneSlots) {
+      const int count = int(std::min<size_t>(kLaneSlots, live.size() - first));
+      if (instances) {
+        PrimaryHitLanes row;
+        for (int j = 0; j < count; ++j) {
+          const Hit& hit = hits[live[first + size_t(j)]];
+          const vec3& dir = paths[live[first + size_t(j)]].ray.direction;
+          row.instance[j] = hit.instance, row.prim[j] = hit.prim;
+          row.u[j] = hit.barycentric.x, row.v[j] = hit.barycentric.y;
+          row.dir[0][j] = dir.x, row.dir[1][j] = dir.y, row.dir[2][j] = dir.z;
+        }
+        surface_points_lanes(*instances, row, count, surfaces);
       }
-      surface_points_lanes(*instances, row, count, &surfaces[first]);
-    }
-    // The bounce of each path: emission, its next-event estimate's shadow ray, its next ray.
-    for (size_t j = 0; j < live.size(); ++j) {
-      const uint32_t k = live[j];
-      const bool lanes = instances && instances->in_lanes(hits[k].instance);
-      path_bounce(view, sampler, params, paths[k], hits[k], rngs[k], first_hits ? &(*first_hits)[k] : nullptr,
-                  lanes ? &surfaces[j] : nullptr);
+      bounce_paths(view, sampler, params, &live[first], count, hits, surfaces, instances, paths, rngs, first_hits,
+                   batch);
     }
     // The shadow rays, then the paths that go on.
     auto shadows = ray_queue16<uint32_t>(tracer, RayQuery::Occluded, [&](uint32_t k, const RayPacket16& p, int lane) {

@@ -43,25 +43,32 @@ inline float power_heuristic(float a, float b) {
   return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 
-// Next-event estimation at one surface point up to its shadow ray: picks a light with the sampler, samples
-// a point on it and writes the shadow ray and the MIS-weighted contribution (without the path throughput)
-// that counts if the ray is not occluded. False when there is nothing to trace (no contribution possible).
-// `terms` is bsdf.wo_terms(wo).
+// Next-event estimation at one surface point, its draw: picks a light with the sampler and samples a point
+// on it (4 random numbers, always drawn). False when the sample cannot contribute whatever the BSDF: no light,
+// zero density or radiance, or below the geometric surface. `pmf` is the light's selection probability.
 template <LightSampler S, class Stream>
-bool sample_direct_light(const SceneView& view, const S& sampler, const SurfacePoint& sp, const Bsdf& bsdf,
-                         const BsdfWoTerms& terms, const vec3& wo, Stream& rng, Ray& shadow, vec3& contribution) {
+bool draw_light_sample(const SceneView& view, const S& sampler, const SurfacePoint& sp, Stream& rng, float& pmf,
+                       LightSample& ls) {
   ShadingContext ctx{sp.position, sp.shading_normal};
   SampledLight chosen = sampler.sample(ctx, rng.next_2d());
   vec2 u = rng.next_2d();
   if (chosen.pmf <= 0.0f) return false;
-  LightSample ls = view.lights.sample(view.scene, chosen.index, sp.position, u);
+  pmf = chosen.pmf;
+  ls = view.lights.sample(view.scene, chosen.index, sp.position, u);
   if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return false;
-  if (glm::dot(ls.wi, sp.geometric_normal) <= 0.0f) return false;
-  vec3 f = bsdf.eval(terms, wo, ls.wi) * std::abs(glm::dot(ls.wi, sp.shading_normal));
+  return glm::dot(ls.wi, sp.geometric_normal) > 0.0f;
+}
+
+// Next-event estimation's end up to its shadow ray, for a drawn light sample: with f = the BSDF times |cos| at
+// the shading normal towards ls.wi and bsdf_pdf the BSDF's density there, writes the shadow ray and the
+// contribution weighted by the power heuristic (without the path throughput) that counts if the ray is not
+// occluded. False when there is nothing to trace.
+inline bool weigh_light_sample(const Tracer& tracer, const SurfacePoint& sp, const LightSample& ls, float pmf,
+                               const vec3& f, float bsdf_pdf, Ray& shadow, vec3& contribution) {
   if (max_component(f) <= 0.0f) return false;
-  float p_light = chosen.pmf * ls.pdf;
-  float weight = ls.is_delta ? 1.0f : power_heuristic(p_light, bsdf.pdf(terms, wo, ls.wi));
-  shadow = shadow_ray(view.tracer, sp.position, sp.geometric_normal, ls);
+  float p_light = pmf * ls.pdf;
+  float weight = ls.is_delta ? 1.0f : power_heuristic(p_light, bsdf_pdf);
+  shadow = shadow_ray(tracer, sp.position, sp.geometric_normal, ls);
   contribution = f * ls.radiance * (weight / p_light);
   return true;
 }
@@ -103,22 +110,22 @@ struct PathState {
   vec3 radiance() const { return overflowed ? vec3(std::numeric_limits<float>::quiet_NaN()) : L; }
 };
 
-// One bounce of a path whose ray has been traced to `hit`: adds the emission the ray reached (weighted by
-// the power heuristic against NEE's chance of the same point), draws the vertex's next-event estimate
-// (leaving its shadow ray pending) and the next ray with Russian roulette, or ends the path (alive =
-// false). `first_hit`, if given, receives the surface the start's ray hits; `surface`, if given, is the hit's
-// surface_at, computed by the caller. Reads the scene, light list and sampler; draws up to 8 random numbers (4
-// for the light sample, 3 for the BSDF sample, 1 for roulette).
-template <LightSampler S, class Stream>
-void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams& params, PathState& st, const Hit& hit,
-                 Stream& rng, std::optional<SurfacePoint>* first_hit, const SurfacePoint* surface = nullptr) {
+// A bounce's first step, for a path whose ray has been traced to `hit`: ends the path (alive = false) on a
+// miss with the environment's light, else takes the hit's surface (`surface` if given, computed by the
+// caller, else surface_at) into sp and `first_hit` (for the start's ray), and adds the emission the ray reached
+// (weighted by the power heuristic against NEE's chance of the same point). True when the vertex scatters
+// (below max_depth): path_bounce's next steps follow.
+template <LightSampler S>
+bool arrive_at_vertex(const SceneView& view, const S& sampler, const PathTracerParams& params, PathState& st,
+                      const Hit& hit, std::optional<SurfacePoint>* first_hit, const SurfacePoint* surface,
+                      SurfacePoint& sp) {
   st.alive = false;
+  st.light_pending = false;
   if (!hit.valid()) {
     st.L += st.beta * view.lights.environment();  // the environment is reached by BSDF sampling only
-    return;
+    return false;
   }
-  const vec3 wo = -st.ray.direction;
-  SurfacePoint sp = surface ? *surface : surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, wo);
+  sp = surface ? *surface : surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -st.ray.direction);
   const bool first = st.first;
   st.first = false;
   if (first && first_hit) *first_hit = sp;
@@ -133,23 +140,19 @@ void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams
     }
     st.L += st.beta * sp.emission * weight;
   }
-  if (st.depth >= params.max_depth) return;
+  return st.depth < params.max_depth;
+}
 
-  Bsdf bsdf = sp.bsdf();
-  const BsdfWoTerms terms = bsdf.wo_terms(wo);  // shared by the light sample's and the BSDF sample's evaluations
-  vec3 contribution;
-  st.light_pending = sample_direct_light(view, sampler, sp, bsdf, terms, wo, rng, st.shadow, contribution);
-  if (st.light_pending) st.light = st.beta * contribution;
-
-  // Continue the path by sampling the BSDF.
-  BsdfSample bs;
-  vec2 u = rng.next_2d();
-  if (!bsdf.sample(terms, wo, u, rng.next_float(), bs)) return;
+// A bounce's last step: the path goes on along the BSDF sample bs drawn at vertex sp (one that sampling
+// accepted: pdf > 0), with Russian roulette (one random number, from rr_start_depth on), or ends.
+template <class Stream>
+void continue_path(const Tracer& tracer, const PathTracerParams& params, PathState& st, const SurfacePoint& sp,
+                   const BsdfSample& bs, Stream& rng) {
   if (glm::dot(bs.wi, sp.geometric_normal) <= 0.0f) return;
   st.beta *= bs.f * (std::abs(glm::dot(bs.wi, sp.shading_normal)) / bs.pdf);
   st.prev_bsdf_pdf = bs.pdf;
   st.prev_ctx = ShadingContext{sp.position, sp.shading_normal};
-  st.ray = view.tracer.spawn_ray(sp.position, sp.geometric_normal, bs.wi);
+  st.ray = tracer.spawn_ray(sp.position, sp.geometric_normal, bs.wi);
 
   if (st.depth + 1 >= params.rr_start_depth) {
     float survive = std::min(0.95f, max_component(st.beta));
@@ -163,6 +166,35 @@ void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams
   }
   ++st.depth;
   st.alive = true;
+}
+
+// One bounce of a path whose ray has been traced to `hit`: arrive_at_vertex, then the vertex's next-event
+// estimate (its shadow ray left pending) and the next ray drawn from the BSDF (continue_path), or the path's
+// end. `first_hit` and `surface` as arrive_at_vertex takes them. Reads the scene, light list and sampler;
+// draws up to 8 random numbers (4 for the light sample, 3 for the BSDF sample, 1 for roulette).
+// engine/path_batch.h runs the same steps for many paths with the BSDF work in lanes.
+template <LightSampler S, class Stream>
+void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams& params, PathState& st, const Hit& hit,
+                 Stream& rng, std::optional<SurfacePoint>* first_hit, const SurfacePoint* surface = nullptr) {
+  SurfacePoint sp;
+  if (!arrive_at_vertex(view, sampler, params, st, hit, first_hit, surface, sp)) return;
+  const vec3 wo = -st.ray.direction;
+  Bsdf bsdf = sp.bsdf();
+  const BsdfWoTerms terms = bsdf.wo_terms(wo);  // shared by the light sample's and the BSDF sample's evaluations
+  float pmf;
+  LightSample ls;
+  if (draw_light_sample(view, sampler, sp, rng, pmf, ls)) {
+    vec3 contribution;
+    const vec3 f = bsdf.eval(terms, wo, ls.wi) * std::abs(glm::dot(ls.wi, sp.shading_normal));
+    st.light_pending =
+        weigh_light_sample(view.tracer, sp, ls, pmf, f, bsdf.pdf(terms, wo, ls.wi), st.shadow, contribution);
+    if (st.light_pending) st.light = st.beta * contribution;
+  }
+  // Continue the path by sampling the BSDF.
+  BsdfSample bs;
+  vec2 u = rng.next_2d();
+  if (!bsdf.sample(terms, wo, u, rng.next_float(), bs)) return;
+  continue_path(view.tracer, params, st, sp, bs, rng);
 }
 
 // The answer of a pending next-event estimate's shadow ray.
