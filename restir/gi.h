@@ -21,11 +21,38 @@ struct GiParams {
   uint64_t seed = 0;
 };
 
+// Where a pixel's GI path starts: the pixel, its visible point x_v, the BSDF's solid-angle density of the first
+// ray, the sample's tag and the reservoir's uniform.
+struct GiStart {
+  size_t pixel;
+  vec3 position;
+  float pdf;
+  vec2 tag;
+  float u;
+};
+
+// Stage "gi_samples", part 1 (per tile row): pixels [x0, x1) of row y. Each hit pixel's reservoir gets M = 1
+// (the others an empty one) and its first ray, drawn from the BSDF of x_v (the exact G-buffer surface) with the
+// BSDF's terms, value and density in lanes (engine/bsdf_lanes.h, restir/receiver_lanes.h; the scalar
+// di_exact_receiver and Bsdf::sample give the same bits): a start, a path and its random stream per pixel
+// whose ray leaves the surface are appended.
+void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& domain, const GiParams& params, int frame,
+                   int x0, int x1, int y, std::vector<DiReservoir>& out, std::vector<GiStart>& starts,
+                   std::vector<PathState>& paths, std::vector<Rng>& rngs);
+
+// Part 3 (per tile): each traced path's sample x_s (its first hit, with the path's radiance) into its pixel's
+// reservoir, with W = 1 / p_area(x_s), p_area the BSDF's solid-angle density times |cos_s| / d^2, and the target
+// at the pixel's packed receiver evaluated in lanes (evaluate_candidate_lanes: di_target's bits). A path
+// whose radiance is not finite is counted in `non_finite` and leaves the reservoir empty.
+void gi_sample_reservoirs(const DiDomain& domain, const std::vector<GiStart>& starts,
+                          const std::vector<PathState>& paths, const std::vector<std::optional<SurfacePoint>>& x_s,
+                          std::vector<DiReservoir>& out, Counter& non_finite);
+
 // Stage "gi_samples": reads the G-buffer (exact surface: BSDF sampling) and packed surfaces (target);
-// writes one reservoir per pixel holding its sample point, M = 1 and W = 1 / p_area(x_s) with p_area the
-// BSDF's solid-angle density times |cos_s| / d^2; a path whose radiance is not finite leaves an empty
-// reservoir and is counted in `non_finite`. Cost: one path per pixel (about 1 + 2 x bounces rays), a tile's
-// paths traced together with their rays in packets (engine/path_batch.h).
+// writes one reservoir per pixel holding its sample point, M = 1 and W = 1 / p_area(x_s); a path whose
+// radiance is not finite leaves an empty reservoir and is counted in `non_finite`. Cost: one path per pixel
+// (about 1 + 2 x bounces rays), a tile's paths traced together with their rays in packets and their BSDF
+// work in lanes (engine/path_batch.h).
 template <LightSampler S>
 void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
                         const GiParams& params, int frame, std::vector<DiReservoir>& out, RayCounter& rays,
@@ -38,61 +65,17 @@ void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& 
   PathTracerParams path;
   path.max_depth = params.max_depth;
   path.rr_start_depth = params.rr_start_depth;
-  // What a path's reservoir needs of its start.
-  struct Start {
-    size_t pixel;
-    vec3 position;  // x_v
-    float pdf;      // the BSDF's solid-angle density of the first ray
-    vec2 tag;
-    float u;  // the reservoir's uniform
-  };
   const GBufferInstances instances(view.scene);  // the path vertices' surfaces in lanes
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
-    std::vector<Start> starts;
+    std::vector<GiStart> starts;
     std::vector<PathState> paths;
     std::vector<Rng> rngs;
-    // Per pixel: the first ray, drawn from the BSDF of the visible point x_v.
     for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        const size_t i = size_t(y) * size_t(g.width) + size_t(x);
-        out[i] = DiReservoir{};
-        if (!g.hit(i)) continue;
-        // One attempt, M = 1, whatever comes of it: a ray that escapes or a path that brings no light is a
-        // sample of zero contribution, and counting it keeps the reuse MIS weights consistent (with M = 0
-        // there, the neighbours' samples were weighted as if this pixel could not have drawn theirs: +11%
-        // indirect light with one neighbour, measured).
-        out[i].M = 1.0f;
-        Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0x61);
-        const DiReceiver receiver = di_exact_receiver(g, domain.eye, domain.lights, i);
-        vec2 ub(rng.next_float(), rng.next_float()), tag(rng.next_float(), rng.next_float());
-        float lobe = rng.next_float(), u = rng.next_float();
-        BsdfSample bs;
-        if (!receiver.bsdf.sample(receiver.wo, ub, lobe, bs) || glm::dot(bs.wi, receiver.geometric_normal) <= 0.0f)
-          continue;
-        starts.push_back(Start{i, receiver.position, bs.pdf, tag, u});
-        paths.emplace_back(PathStart{view.tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi), 1,
-                                     bs.pdf, ShadingContext{receiver.position, receiver.shading_normal}, false});
-        rngs.push_back(rng);
-      }
+      gi_first_rays(view, g, domain, params, frame, tile.x0, tile.x1, y, out, starts, paths, rngs);
     // The tile's paths, to their ends; x_s is each path's first hit.
     std::vector<std::optional<SurfacePoint>> x_s(paths.size());
     rays.add(trace_paths(view, sampler, path, paths, rngs, &x_s, &instances));
-    // Per path: its sample x_s, with the target at its own pixel and the area density of x_s.
-    for (size_t k = 0; k < paths.size(); ++k) {
-      const Start& start = starts[k];
-      const vec3 L = paths[k].radiance();
-      if (!is_finite(L)) non_finite.add(1);
-      if (!x_s[k] || !is_finite(L) || max_component(L) <= 0.0f) continue;
-      const vec3 d = x_s[k]->position - start.position;
-      const float d2 = glm::dot(d, d), cos_s = std::abs(glm::dot(x_s[k]->geometric_normal, d)) / std::sqrt(d2);
-      const float p_area = start.pdf * cos_s / d2;
-      DiSample s{kSurfacePointSample, start.tag, LightPoint{x_s[k]->position, x_s[k]->geometric_normal, L, false}, 0};
-      float p_hat = di_target(di_contribution(di_receiver(domain, start.pixel), s));
-      if (!(p_area > 0.0f) || p_hat <= 0.0f) continue;
-      DiReservoir& r = out[start.pixel];
-      r.update(s, p_hat / p_area, p_hat, start.u);
-      r.finalize();
-    }
+    gi_sample_reservoirs(domain, starts, paths, x_s, out, non_finite);
   });
 }
 

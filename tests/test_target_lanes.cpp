@@ -14,7 +14,9 @@
 #include "engine/builtin_scenes.h"
 #include "engine/simd_targets.h"
 #include "restir/di_candidates.h"
+#include "restir/gi.h"
 #include "restir/receiver_lanes.h"
+#include "samplers/simple_samplers.h"
 #include "tests/render_helpers.h"
 #include "tests/test_util.h"
 #include "tests/settings_builder.h"
@@ -323,6 +325,73 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
         EXPECT_GT(with_sample, int(r[0].size()) / 4) << c.scene;
       }
     }
+  }
+}
+
+// ReSTIR GI's initial samples (gi_initial_samples: the first rays' BSDF terms and densities, the paths' BSDF work
+// and the samples' targets in lanes) against the scalar code they stand for, written out here: di_exact_receiver
+// and Bsdf::sample for the first ray, trace_path (one ray at a time, scalar BSDFs) for the path, di_contribution
+// at the packed receiver for the target. The bound is exact equality of every reservoir.
+TEST(TargetLanes, GiSamplesEqualTheScalarPath) {
+  for (const char* name : {"manylights", "city"}) {
+    const Scene scene = make_builtin_scene(name);
+    const Tracer tracer(scene);
+    const LightList lights(scene);
+    const PowerLightSampler sampler(lights);
+    const int w = 96, h = 64, frame = 2;
+    const Camera camera(scene.default_camera(), w, h);
+    const SceneView view{scene, tracer, lights, camera};
+    GBuffer g;
+    RayCounter rays;
+    trace_gbuffer(scene, tracer, camera, camera, GBufferParams{3, frame, true, true, true}, g, rays);
+    const DiDomain domain{g.packed, w, h, camera.position(), lights};
+    GiParams params;
+    params.seed = 11;
+    std::vector<DiReservoir> lanes;
+    Counter non_finite;
+    gi_initial_samples(view, sampler, g, domain, params, frame, lanes, rays, non_finite);
+    ASSERT_EQ(lanes.size(), g.size());
+    PathTracerParams path;
+    path.max_depth = params.max_depth;
+    path.rr_start_depth = params.rr_start_depth;
+    int with_sample = 0;
+    for (size_t i = 0; i < g.size(); ++i) {
+      DiReservoir r;
+      if (g.hit(i)) {
+        r.M = 1.0f;
+        Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0x61);
+        const DiReceiver receiver = di_exact_receiver(g, domain.eye, lights, i);
+        vec2 ub(rng.next_float(), rng.next_float()), tag(rng.next_float(), rng.next_float());
+        float lobe = rng.next_float(), u = rng.next_float();
+        BsdfSample bs;
+        if (receiver.bsdf.sample(receiver.wo, ub, lobe, bs) && glm::dot(bs.wi, receiver.geometric_normal) > 0.0f) {
+          const PathStart start{tracer.spawn_ray(receiver.position, receiver.geometric_normal, bs.wi), 1, bs.pdf,
+                                ShadingContext{receiver.position, receiver.shading_normal}, false};
+          std::optional<SurfacePoint> x_s;
+          uint64_t traced = 0;
+          const vec3 L = trace_path(view, sampler, path, start, rng, traced, &x_s);
+          if (x_s && is_finite(L) && max_component(L) > 0.0f) {
+            const vec3 d = x_s->position - receiver.position;
+            const float d2 = glm::dot(d, d), cos_s = std::abs(glm::dot(x_s->geometric_normal, d)) / std::sqrt(d2);
+            const float p_area = bs.pdf * cos_s / d2;
+            DiSample s{kSurfacePointSample, tag, LightPoint{x_s->position, x_s->geometric_normal, L, false}, 0};
+            const float p_hat = di_target(di_contribution(di_receiver(domain, i), s));
+            if (p_area > 0.0f && p_hat > 0.0f) {
+              r.update(s, p_hat / p_area, p_hat, u);
+              r.finalize();
+            }
+          }
+        }
+      }
+      const DiReservoir& a = lanes[i];
+      ASSERT_TRUE(a.y.light == r.y.light && a.y.uv == r.y.uv && same_bits(a.W, r.W) && same_bits(a.w_sum, r.w_sum) &&
+                  same_bits(a.p_hat_y, r.p_hat_y) && same_bits(a.M, r.M) &&
+                  same_bits(a.y.point.radiance.x, r.y.point.radiance.x) &&
+                  same_bits(a.y.point.position.y, r.y.point.position.y))
+          << name << " pixel " << i << ": W " << a.W << " / " << r.W << ", p_hat " << a.p_hat_y << " / " << r.p_hat_y;
+      with_sample += r.W > 0.0f;
+    }
+    EXPECT_GT(with_sample, int(g.size()) / 4) << name << ": too few pixels with a GI sample to compare";
   }
 }
 

@@ -1,0 +1,106 @@
+#include "restir/gi.h"
+
+#include "restir/receiver_lanes.h"
+
+namespace candela {
+
+void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& domain, const GiParams& params, int frame,
+                   int x0, int x1, int y, std::vector<DiReservoir>& out, std::vector<GiStart>& starts,
+                   std::vector<PathState>& paths, std::vector<Rng>& rngs) {
+  struct Row {
+    ExactSurfaceLanes surfaces;
+    ReceiverLanes receivers;
+    DirectionLanes directions;
+    Rng rng[kLaneSlots];
+    vec2 tag[kLaneSlots];
+    float u[kLaneSlots];
+  };
+  thread_local Row row;
+  const int slots = x1 - x0;
+  const size_t first = size_t(y) * size_t(g.width) + size_t(x0);
+  // The exact receivers of the row's hit pixels (wo, the BSDFs' terms) in lanes.
+  for (int s = 0; s < slots; ++s)
+    if (g.hit(first + size_t(s))) row.surfaces.set(s, g, first + size_t(s));
+  build_exact_receivers(row.surfaces, domain.eye, slots, row.receivers);
+  // Per hit pixel: the first direction, drawn from its BSDF (the random numbers in the order the scalar code
+  // drew them: the direction's two, the tag's two, the lobe's and the reservoir's uniform).
+  const BsdfLanes& bsdf = row.receivers.exact;
+  for (int s = 0; s < slots; ++s) {
+    const size_t i = first + size_t(s);
+    out[i] = DiReservoir{};
+    row.directions.active[s] = 0.0f;
+    if (!g.hit(i)) continue;
+    // One attempt, M = 1, whatever comes of it: a ray that escapes or a path that brings no light is a
+    // sample of zero contribution, and counting it keeps the reuse MIS weights consistent (with M = 0
+    // there, the neighbours' samples were weighted as if this pixel could not have drawn theirs: +11%
+    // indirect light with one neighbour, measured).
+    out[i].M = 1.0f;
+    Rng& rng = row.rng[s];
+    rng = Rng::for_key(params.seed, i, uint64_t(frame), 0x61);
+    vec2 ub(rng.next_float(), rng.next_float()), tag(rng.next_float(), rng.next_float());
+    float lobe = rng.next_float(), u = rng.next_float();
+    row.tag[s] = tag, row.u[s] = u;
+    const vec3 wo(row.receivers.wox[s], row.receivers.woy[s], row.receivers.woz[s]);
+    vec3 wi;
+    if (sample_bsdf_direction(Frame::from_normal(g.shading_normal[i]), bsdf.alpha[s], wo, ub, lobe, bsdf.p_specular[s],
+                              wi))
+      row.directions.x[s] = wi.x, row.directions.y[s] = wi.y, row.directions.z[s] = wi.z, row.directions.active[s] = 1;
+  }
+  // The directions' densities (Bsdf::sample's), in lanes; then the paths of the directions it accepts that
+  // leave the geometric surface.
+  evaluate_bsdf_lanes(bsdf, row.receivers.wox, row.receivers.woy, row.receivers.woz, slots, false, row.directions);
+  for (int s = 0; s < slots; ++s) {
+    const size_t i = first + size_t(s);
+    const float pdf = row.directions.pdf[s];
+    if (row.directions.active[s] == 0.0f || !(pdf > 0.0f)) continue;
+    const vec3 wi(row.directions.x[s], row.directions.y[s], row.directions.z[s]);
+    if (glm::dot(wi, g.geometric_normal[i]) <= 0.0f) continue;
+    starts.push_back(GiStart{i, g.position[i], pdf, row.tag[s], row.u[s]});
+    paths.emplace_back(PathStart{view.tracer.spawn_ray(g.position[i], g.geometric_normal[i], wi), 1, pdf,
+                                 ShadingContext{g.position[i], g.shading_normal[i]}, false});
+    rngs.push_back(row.rng[s]);
+  }
+}
+
+void gi_sample_reservoirs(const DiDomain& domain, const std::vector<GiStart>& starts,
+                          const std::vector<PathState>& paths, const std::vector<std::optional<SurfacePoint>>& x_s,
+                          std::vector<DiReservoir>& out, Counter& non_finite) {
+  struct Group {
+    SurfaceLanes surfaces;
+    ReceiverLanes receivers;
+    CandidateLanes samples;
+    float p_area[kLaneSlots];
+  };
+  thread_local Group group;
+  for (size_t first = 0; first < paths.size(); first += kLaneSlots) {
+    const int count = int(std::min<size_t>(kLaneSlots, paths.size() - first));
+    // Per path: its sample point x_s with the path's radiance, and the area density of x_s.
+    for (int s = 0; s < count; ++s) {
+      const size_t k = first + size_t(s);
+      const GiStart& start = starts[k];
+      const vec3 L = paths[k].radiance();
+      if (!is_finite(L)) non_finite.add(1);
+      group.samples.clear(s);
+      group.surfaces.set(s, domain.surfaces[start.pixel]);
+      if (!x_s[k] || !is_finite(L) || max_component(L) <= 0.0f) continue;
+      const vec3 d = x_s[k]->position - start.position;
+      const float d2 = glm::dot(d, d), cos_s = std::abs(glm::dot(x_s[k]->geometric_normal, d)) / std::sqrt(d2);
+      group.p_area[s] = start.pdf * cos_s / d2;
+      group.samples.set(s, LightPoint{x_s[k]->position, x_s[k]->geometric_normal, L, false});
+    }
+    // The targets at the pixels' packed receivers, in lanes; then each reservoir.
+    build_receiver_lanes(group.surfaces, domain.eye, count, group.receivers);
+    evaluate_candidate_lanes(group.receivers, &group.samples, 1, count, false);
+    for (int s = 0; s < count; ++s) {
+      const size_t k = first + size_t(s);
+      const float p_hat = group.samples.p_hat[s], p_area = group.p_area[s];
+      if (group.samples.active[s] == 0.0f || !(p_area > 0.0f) || p_hat <= 0.0f) continue;
+      DiReservoir& r = out[starts[k].pixel];
+      r.update(DiSample{kSurfacePointSample, starts[k].tag, group.samples.point(s), 0}, p_hat / p_area, p_hat,
+               starts[k].u);
+      r.finalize();
+    }
+  }
+}
+
+}  // namespace candela
