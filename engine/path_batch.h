@@ -16,9 +16,9 @@ namespace candela {
 // A group of up to kLaneSlots paths in one bounce: their vertices, and the BSDF work of path_bounce in lanes
 // (the BSDFs' terms, the light samples' and the BSDF samples' values and densities).
 struct PathVertexBatch {
-  SurfacePoint sp[kLaneSlots];
-  bool scatters[kLaneSlots] = {};  // arrive_at_vertex's answer
-  float pmf[kLaneSlots] = {};      // the light sample's selection probability
+  SurfacePoint scratch[kLaneSlots];         // the surfaces arrive_at_vertex computes
+  const SurfacePoint* sp[kLaneSlots] = {};  // the scattering vertices' surfaces (arrive_at_vertex's answer)
+  float pmf[kLaneSlots] = {};               // the light sample's selection probability
   LightSample light_sample[kLaneSlots];
   BsdfVertexLanes vertices;
   BsdfLanes bsdf;
@@ -36,14 +36,16 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
                   int count, const std::vector<Hit>& hits, const SurfacePoint* surfaces,
                   const GBufferInstances* instances, std::vector<PathState>& paths, std::vector<Stream>& rngs,
                   std::vector<std::optional<SurfacePoint>>* first_hits, PathVertexBatch& b) {
-  // Arrive: emission, and each vertex's BSDF parameters and wo into the lanes (unused where it does not scatter).
+  // Arrive: emission, and each scattering vertex's BSDF parameters and wo into the lanes (the other slots keep
+  // stale ones, whose results nobody reads).
   for (int j = 0; j < count; ++j) {
     const uint32_t k = group[j];
     const SurfacePoint* surface = instances && instances->in_lanes(hits[k].instance) ? &surfaces[j] : nullptr;
     const vec3 wo = -paths[k].ray.direction;
-    b.scatters[j] = arrive_at_vertex(view, sampler, params, paths[k], hits[k], first_hits ? &(*first_hits)[k] : nullptr,
-                                     surface, b.sp[j]);
-    const SurfacePoint& sp = b.sp[j];
+    b.sp[j] = arrive_at_vertex(view, sampler, params, paths[k], hits[k], first_hits ? &(*first_hits)[k] : nullptr,
+                               surface, b.scratch[j]);
+    if (!b.sp[j]) continue;
+    const SurfacePoint& sp = *b.sp[j];
     b.vertices.material.set(j, sp.shading_normal, sp.base_color, sp.metallic, sp.roughness, sp.specular,
                             sp.specular_f0);
     b.vertices.wox[j] = wo.x, b.vertices.woy[j] = wo.y, b.vertices.woz[j] = wo.z;
@@ -52,9 +54,9 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
   // Draw: each scattering vertex's light sample, then its BSDF direction from the lanes' terms.
   for (int j = 0; j < count; ++j) {
     b.light.active[j] = b.next.active[j] = 0.0f;
-    if (!b.scatters[j]) continue;
+    if (!b.sp[j]) continue;
     Stream& rng = rngs[group[j]];
-    const SurfacePoint& sp = b.sp[j];
+    const SurfacePoint& sp = *b.sp[j];
     if (draw_light_sample(view, sampler, sp, rng, b.pmf[j], b.light_sample[j])) {
       const vec3& wi = b.light_sample[j].wi;
       b.light.x[j] = wi.x, b.light.y[j] = wi.y, b.light.z[j] = wi.z, b.light.active[j] = 1.0f;
@@ -71,12 +73,12 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, false, b.next);
   // Finish: the light samples' weights and shadow rays, then the paths that go on.
   for (int j = 0; j < count; ++j) {
-    if (!b.scatters[j]) continue;
+    if (!b.sp[j]) continue;
     PathState& st = paths[group[j]];
     if (b.light.active[j] > 0.0f) {
       vec3 contribution;
       const vec3 f(b.light.f[0][j], b.light.f[1][j], b.light.f[2][j]);
-      st.light_pending = weigh_light_sample(view.tracer, b.sp[j], b.light_sample[j], b.pmf[j], f, b.light.pdf[j],
+      st.light_pending = weigh_light_sample(view.tracer, *b.sp[j], b.light_sample[j], b.pmf[j], f, b.light.pdf[j],
                                             st.shadow, contribution);
       if (st.light_pending) st.light = st.beta * contribution;
     }
@@ -84,7 +86,7 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     if (b.next.active[j] > 0.0f && b.next.pdf[j] > 0.0f) {
       const BsdfSample bs{vec3(b.next.x[j], b.next.y[j], b.next.z[j]),
                           vec3(b.next.f[0][j], b.next.f[1][j], b.next.f[2][j]), b.next.pdf[j]};
-      continue_path(view.tracer, params, st, b.sp[j], bs, rngs[group[j]]);
+      continue_path(view.tracer, params, st, *b.sp[j], bs, rngs[group[j]]);
     }
   }
 }

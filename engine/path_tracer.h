@@ -112,20 +112,24 @@ struct PathState {
 
 // A bounce's first step, for a path whose ray has been traced to `hit`: ends the path (alive = false) on a
 // miss with the environment's light, else takes the hit's surface (`surface` if given, computed by the
-// caller, else surface_at) into sp and `first_hit` (for the start's ray), and adds the emission the ray reached
-// (weighted by the power heuristic against NEE's chance of the same point). True when the vertex scatters
-// (below max_depth): path_bounce's next steps follow.
+// caller, else surface_at into `scratch`) and gives it to `first_hit` (for the start's ray), and adds the
+// emission the ray reached (weighted by the power heuristic against NEE's chance of the same point). Returns
+// the surface when the vertex scatters (below max_depth: path_bounce's next steps follow), else null.
 template <LightSampler S>
-bool arrive_at_vertex(const SceneView& view, const S& sampler, const PathTracerParams& params, PathState& st,
-                      const Hit& hit, std::optional<SurfacePoint>* first_hit, const SurfacePoint* surface,
-                      SurfacePoint& sp) {
+const SurfacePoint* arrive_at_vertex(const SceneView& view, const S& sampler, const PathTracerParams& params,
+                                     PathState& st, const Hit& hit, std::optional<SurfacePoint>* first_hit,
+                                     const SurfacePoint* surface, SurfacePoint& scratch) {
   st.alive = false;
   st.light_pending = false;
   if (!hit.valid()) {
     st.L += st.beta * view.lights.environment();  // the environment is reached by BSDF sampling only
-    return false;
+    return nullptr;
   }
-  sp = surface ? *surface : surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -st.ray.direction);
+  if (!surface) {
+    scratch = surface_at(view.scene, hit.instance, hit.prim, hit.barycentric, -st.ray.direction);
+    surface = &scratch;
+  }
+  const SurfacePoint& sp = *surface;
   const bool first = st.first;
   st.first = false;
   if (first && first_hit) *first_hit = sp;
@@ -140,7 +144,7 @@ bool arrive_at_vertex(const SceneView& view, const S& sampler, const PathTracerP
     }
     st.L += st.beta * sp.emission * weight;
   }
-  return st.depth < params.max_depth;
+  return st.depth < params.max_depth ? surface : nullptr;
 }
 
 // A bounce's last step: the path goes on along the BSDF sample bs drawn at vertex sp (one that sampling
@@ -176,8 +180,10 @@ void continue_path(const Tracer& tracer, const PathTracerParams& params, PathSta
 template <LightSampler S, class Stream>
 void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams& params, PathState& st, const Hit& hit,
                  Stream& rng, std::optional<SurfacePoint>* first_hit, const SurfacePoint* surface = nullptr) {
-  SurfacePoint sp;
-  if (!arrive_at_vertex(view, sampler, params, st, hit, first_hit, surface, sp)) return;
+  SurfacePoint scratch;
+  const SurfacePoint* vertex = arrive_at_vertex(view, sampler, params, st, hit, first_hit, surface, scratch);
+  if (!vertex) return;
+  const SurfacePoint& sp = *vertex;
   const vec3 wo = -st.ray.direction;
   Bsdf bsdf = sp.bsdf();
   const BsdfWoTerms terms = bsdf.wo_terms(wo);  // shared by the light sample's and the BSDF sample's evaluations
