@@ -1,7 +1,7 @@
 #include "apps/renderer.h"
 
 #include "engine/check.h"
-#include "engine/path_tracer.h"
+#include "engine/path_batch.h"
 
 namespace candela {
 

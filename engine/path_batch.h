@@ -150,4 +150,67 @@ uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerPa
   return traced;
 }
 
+// Stage: adds params.spp path samples per pixel into `sum` (running sum of radiance; divide by the total
+// sample count to display); a non-finite sample is dropped and counted in `non_finite`. Reads the scene
+// view; traces about spp * (1 + 2 * depth) rays per pixel, a tile's paths of one sample number together
+// (trace_paths: rays in packets, surfaces and BSDFs in lanes; trace_path's bits for every path).
+// Randomness is keyed on (seed, pixel, frame, sample) (Sobol: (seed, pixel, epoch) and the sample as the
+// sequence index; ZSobol: (seed, epoch) and the pixel's Morton index with the sample), so the result does
+// not depend on thread count.
+template <LightSampler S>
+void path_trace(const SceneView& view, const S& sampler, const PathTracerParams& params, int frame, Image& sum,
+                RayCounter& rays, Counter& non_finite) {
+  const GBufferInstances instances(view.scene);
+  for_each_tile(view.camera.width(), view.camera.height(), [&](const Tile& tile) {
+    const int tile_width = tile.x1 - tile.x0;
+    std::vector<vec3> acc(size_t(tile_width) * size_t(tile.y1 - tile.y0), vec3(0.0f));
+    uint64_t traced = 0;
+    // One sample of every pixel of the tile, each path with the stream stream_of(pixel, x, y) gives.
+    auto trace_sample = [&](auto&& stream_of) {
+      using Stream = decltype(stream_of(size_t(0), 0, 0));
+      std::vector<PathState> paths;
+      std::vector<Stream> streams;
+      for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x) {
+          Stream stream = stream_of(size_t(y) * size_t(view.camera.width()) + size_t(x), x, y);
+          vec2 offset = stream.next_2d();
+          vec2 film = vec2(x, y) + (params.jitter ? offset : vec2(0.5f));
+          paths.emplace_back(
+              PathStart{Ray{view.camera.position(), view.camera.direction(film.x, film.y), 0.0f, kInfinity}});
+          streams.push_back(stream);
+        }
+      traced += trace_paths(view, sampler, params, paths, streams, nullptr, &instances);
+      for (size_t k = 0; k < paths.size(); ++k) {
+        const vec3 L = paths[k].radiance();
+        if (is_finite(L))
+          acc[k] += L;
+        else
+          non_finite.add(1);
+      }
+    };
+    for (int s = 0; s < params.spp; ++s) {
+      const uint64_t sample = uint64_t(params.first_sample + s);
+      if (params.sequence == SampleSequence::Sobol) {
+        trace_sample([&](size_t pixel, int, int) {
+          return SobolStream::for_pixel(params.seed, pixel, params.epoch, uint32_t(sample));
+        });
+      } else if (params.sequence == SampleSequence::ZSobol) {
+        const uint32_t low = uint32_t(sample) & ((1u << params.log2_samples) - 1u);
+        const uint64_t run = sample >> params.log2_samples;
+        trace_sample([&](size_t, int x, int y) {
+          return SobolStream::for_screen(params.seed, mix64(params.epoch) ^ run,
+                                         zsobol_index(uint32_t(x), uint32_t(y), params.log2_samples, low));
+        });
+      } else {
+        trace_sample([&](size_t pixel, int, int) { return Rng::for_key(params.seed, pixel, sample, uint64_t(frame)); });
+      }
+    }
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x)
+        sum.pixels[size_t(y) * size_t(view.camera.width()) + size_t(x)] +=
+            acc[size_t(y - tile.y0) * size_t(tile_width) + size_t(x - tile.x0)];
+    rays.add(traced);
+  });
+}
+
 }  // namespace candela

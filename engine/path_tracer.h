@@ -230,47 +230,4 @@ vec3 trace_path(const SceneView& view, const S& sampler, const PathTracerParams&
   return st.radiance();
 }
 
-// Stage: adds params.spp path samples per pixel into `sum` (running sum of radiance; divide by the total
-// sample count to display); a non-finite sample is dropped and counted in `non_finite`. Reads the scene
-// view; traces about spp * (1 + 2 * depth) rays per pixel.
-// Randomness is keyed on (seed, pixel, frame, sample) (Sobol: (seed, pixel, epoch) and the sample as the
-// sequence index; ZSobol: (seed, epoch) and the pixel's Morton index with the sample), so the result does
-// not depend on thread count.
-template <LightSampler S>
-void path_trace(const SceneView& view, const S& sampler, const PathTracerParams& params, int frame, Image& sum,
-                RayCounter& rays, Counter& non_finite) {
-  for_each_pixel(view.camera.width(), view.camera.height(), rays, [&](size_t pixel, int x, int y) {
-    uint64_t traced = 0;
-    vec3 acc(0.0f);
-    auto one_path = [&](auto& stream) {
-      vec2 offset = stream.next_2d();
-      vec2 film = vec2(x, y) + (params.jitter ? offset : vec2(0.5f));
-      PathStart start{Ray{view.camera.position(), view.camera.direction(film.x, film.y), 0.0f, kInfinity}};
-      vec3 L = trace_path(view, sampler, params, start, stream, traced);
-      if (is_finite(L))
-        acc += L;
-      else
-        non_finite.add(1);
-    };
-    for (int s = 0; s < params.spp; ++s) {
-      const uint64_t sample = uint64_t(params.first_sample + s);
-      if (params.sequence == SampleSequence::Sobol) {
-        SobolStream stream = SobolStream::for_pixel(params.seed, pixel, params.epoch, uint32_t(sample));
-        one_path(stream);
-      } else if (params.sequence == SampleSequence::ZSobol) {
-        const uint32_t low = uint32_t(sample) & ((1u << params.log2_samples) - 1u);
-        const uint64_t run = sample >> params.log2_samples;
-        SobolStream stream = SobolStream::for_screen(params.seed, mix64(params.epoch) ^ run,
-                                                     zsobol_index(uint32_t(x), uint32_t(y), params.log2_samples, low));
-        one_path(stream);
-      } else {
-        Rng stream = Rng::for_key(params.seed, pixel, sample, uint64_t(frame));
-        one_path(stream);
-      }
-    }
-    sum.pixels[pixel] += acc;
-    return traced;
-  });
-}
-
 }  // namespace candela

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "apps/renderer.h"
-#include "engine/path_tracer.h"
+#include "engine/path_batch.h"
 #include "samplers/simple_samplers.h"
 
 namespace candela::testing {
