@@ -70,12 +70,5 @@ void BsdfLanes::set(int s, const BsdfWoTerms& t) {
   g1_o[s] = t.g1_o, p_specular[s] = t.p_specular;
 }
 
-void BsdfMaterialLanes::set(int s, const vec3& n, const vec3& base_color, float metallic_, float roughness_,
-                            float specular_, const vec3& f0) {
-  nx[s] = n.x, ny[s] = n.y, nz[s] = n.z;
-  for (int c = 0; c < 3; ++c) base[c][s] = base_color[c], specular_f0[c][s] = f0[c];
-  roughness[s] = roughness_, metallic[s] = metallic_, specular[s] = specular_;
-}
-
 }  // namespace candela
 #endif  // HWY_ONCE

@@ -31,8 +31,12 @@ struct BsdfMaterialLanes {
   alignas(64) float nx[kLaneSlots], ny[kLaneSlots], nz[kLaneSlots];  // shading normal
   alignas(64) float base[3][kLaneSlots], specular_f0[3][kLaneSlots];
   alignas(64) float roughness[kLaneSlots], metallic[kLaneSlots], specular[kLaneSlots];
-  void set(int slot, const vec3& shading_normal, const vec3& base_color, float metallic, float roughness,
-           float specular, const vec3& specular_f0);
+  void set(int slot, const vec3& shading_normal, const vec3& base_color, float metallic_, float roughness_,
+           float specular_, const vec3& specular_f0_) {
+    nx[slot] = shading_normal.x, ny[slot] = shading_normal.y, nz[slot] = shading_normal.z;
+    for (int c = 0; c < 3; ++c) base[c][slot] = base_color[c], specular_f0[c][slot] = specular_f0_[c];
+    roughness[slot] = roughness_, metallic[slot] = metallic_, specular[slot] = specular_;
+  }
 };
 
 // One direction per surface of a batch (with wo, the direction it is seen from): where `active` is 1,
