@@ -13,6 +13,7 @@ void DiCandidateBatch::resize(int light_candidates, int bsdf_candidates) {
   chosen.resize(k * kLaneSlots);
   bsdf.resize(size_t(std::max(bsdf_candidates, 0)) * kLaneSlots);
   directions.resize(size_t(std::max(bsdf_candidates, 0)));
+  bsdf_hits.resize(size_t(std::max(bsdf_candidates, 0)));
 }
 
 uint64_t trace_bsdf_candidates(const SceneView& view, const GBuffer& g, const DiParams& params, int slots,
@@ -31,6 +32,24 @@ uint64_t trace_bsdf_candidates(const SceneView& view, const GBuffer& g, const Di
     }
   queue.finish();
   return queue.traced();
+}
+
+void locate_bsdf_hits(const SceneView& view, const DiParams& params, int slots, DiCandidateBatch& batch) {
+  for (int k = 0; k < params.bsdf_candidates; ++k) {
+    CandidateLanes* plane = params.simd ? &batch.bsdf_hits[size_t(k)] : nullptr;
+    for (int s = 0; s < slots; ++s) {
+      DiCandidateBatch::BsdfCandidate& c = batch.bsdf[size_t(k) * kLaneSlots + size_t(s)];
+      const Hit& hit = c.hit;
+      c.light = c.sample.pdf > 0.0f && hit.valid() ? view.lights.light_index(hit.instance, hit.prim) : -1;
+      if (c.light >= 0) c.light_sample = di_sample_at(view.scene, view.lights, uint32_t(c.light), hit.barycentric);
+      if (!plane) continue;
+      if (c.light >= 0 && c.light_sample.light < view.lights.triangle_count())
+        plane->set(s, c.light_sample.point);
+      else
+        plane->clear(s);
+    }
+    if (plane) evaluate_candidate_lanes(batch.lanes, plane, 1, slots, true);
+  }
 }
 
 void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBatch& batch) {

@@ -53,8 +53,11 @@ struct DiCandidateBatch {
     BsdfSample sample;
     float u = 0.0f;
     Hit hit;
+    int64_t light = -1;     // the light the hit landed on (-1: none, or no hit)
+    DiSample light_sample;  // where light >= 0: the sample at the hit's point
   };
   std::vector<BsdfCandidate> bsdf;         // [k * kLaneSlots + slot]
+  std::vector<CandidateLanes> bsdf_hits;   // per BSDF candidate, its hits' points on lights (params.simd)
   std::vector<DirectionLanes> directions;  // per BSDF candidate, its directions' value and density (params.simd)
   // The light choices while they are drawn, at [slot * M_l + k]: the uniforms of the choice, the choices.
   std::vector<vec2> light_u;
@@ -234,6 +237,11 @@ inline void evaluate_bsdf_candidates(const DiParams& params, int slots, DiCandid
 uint64_t trace_bsdf_candidates(const SceneView& view, const GBuffer& g, const DiParams& params, int slots,
                                DiCandidateBatch& batch);
 
+// Part 4b: the lights the BSDF candidates of `slots` slots hit, as samples (the point the hit's barycentrics place on
+// the light), and with params.simd their targets and BSDF area densities evaluated in lanes (the light candidates'
+// kernel, into bsdf_hits). Cost per hit: a light lookup and a point, ~100 flops in lanes.
+void locate_bsdf_hits(const SceneView& view, const DiParams& params, int slots, DiCandidateBatch& batch);
+
 // Part 5 (per pixel): the light candidates resampled with their evaluated targets, then the BSDF
 // candidates with their hits, combined by the balance heuristic in area measure: each candidate x gets
 // w = p_hat(x) / (M_l p_light(x) + M_b p_bsdf(x)) (Talbot et al. 2005; Bitterli et al. 2020, sec. 3).
@@ -274,7 +282,7 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
     const BsdfSample& bs = candidate.sample;
     if (bs.pdf <= 0.0f) continue;
     const Hit& hit = candidate.hit;
-    int64_t light = hit.valid() ? view.lights.light_index(hit.instance, hit.prim) : -1;
+    const int64_t light = candidate.light;
     if (light < 0) {
       vec3 L = !hit.valid() ? view.lights.environment()
                : view.scene.material_of(hit.instance).emissive()
@@ -283,14 +291,19 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
       unsampled += bs.f * (std::abs(glm::dot(bs.wi, g.shading_normal[b.pixel])) / bs.pdf) * L / M_b;
       continue;
     }
-    DiSample s = di_sample_at(view.scene, view.lights, uint32_t(light), hit.barycentric);
-    DiContribution c = di_contribution(batch.target(domain, slot), s);
-    float p_hat = di_target(c);
+    const DiSample& s = candidate.light_sample;
+    float p_hat, p_bsdf;
+    if (params.simd && batch.bsdf_hits[size_t(k)].active[slot] > 0.0f) {  // evaluated by locate_bsdf_hits
+      p_hat = batch.bsdf_hits[size_t(k)].p_hat[slot];
+      p_bsdf = batch.bsdf_hits[size_t(k)].bsdf_area_pdf[slot];
+    } else {
+      const DiContribution c = di_contribution(batch.target(domain, slot), s);
+      p_hat = di_target(c);
+      p_bsdf = di_bsdf_area_pdf(batch.exact(g, domain, slot), c, params.bsdf_candidates);
+    }
     if (p_hat <= 0.0f) continue;
     float p_light = sampler.pmf(b.ctx, uint32_t(light)) * di_area_pdf(view.lights, uint32_t(light));
-    r.update(s,
-             p_hat / (M_l * p_light + M_b * di_bsdf_area_pdf(batch.exact(g, domain, slot), c, params.bsdf_candidates)),
-             p_hat, candidate.u);
+    r.update(s, p_hat / (M_l * p_light + M_b * p_bsdf), p_hat, candidate.u);
   }
   r.M = M_l + M_b;
   r.finalize();
@@ -334,6 +347,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       for (int s = 0; s < slots; ++s) draw_bsdf_candidates(g, params, s, batch);
       if (params.simd) evaluate_bsdf_candidates(params, slots, batch);
       traced += trace_bsdf_candidates(view, g, params, slots, batch);
+      locate_bsdf_hits(view, params, slots, batch);
       thread_local StreamLanes streams;
       if (params.simd)
         resample_light_candidates_lanes(batch.planes.data(), batch.p_light.data(), batch.u.data(),

@@ -109,23 +109,5 @@ void ReceiverLanes::set(int s, const vec3& p, const vec3& ng, const vec3& wo, co
   exact.set(s, exact_bsdf);
 }
 
-void CandidateLanes::set(int s, const LightPoint& point) {
-  x[s] = point.position.x, y[s] = point.position.y, z[s] = point.position.z;
-  nx[s] = point.normal.x, ny[s] = point.normal.y, nz[s] = point.normal.z;
-  for (int c = 0; c < 3; ++c) radiance[c][s] = point.radiance[c];
-  two_sided[s] = point.two_sided ? 1.0f : 0.0f;
-  active[s] = 1.0f;
-}
-
-LightPoint CandidateLanes::point(int s) const {
-  return {vec3(x[s], y[s], z[s]), vec3(nx[s], ny[s], nz[s]), vec3(radiance[0][s], radiance[1][s], radiance[2][s]),
-          two_sided[s] > 0.0f};
-}
-
-void CandidateLanes::clear(int s) {
-  set(s, LightPoint{vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), vec3(0.0f), false});
-  active[s] = 0.0f;
-}
-
 }  // namespace candela
 #endif  // HWY_ONCE

@@ -38,9 +38,21 @@ struct CandidateLanes {
   alignas(64) float radiance[3][kLaneSlots];
   alignas(64) float two_sided[kLaneSlots], active[kLaneSlots];
   alignas(64) float p_hat[kLaneSlots], bsdf_area_pdf[kLaneSlots];
-  void set(int slot, const LightPoint& point);
-  void clear(int slot);              // not a triangle-light point: p_hat and density left to the caller
-  LightPoint point(int slot) const;  // the point set() stored
+  void set(int slot, const LightPoint& point) {
+    x[slot] = point.position.x, y[slot] = point.position.y, z[slot] = point.position.z;
+    nx[slot] = point.normal.x, ny[slot] = point.normal.y, nz[slot] = point.normal.z;
+    for (int c = 0; c < 3; ++c) radiance[c][slot] = point.radiance[c];
+    two_sided[slot] = point.two_sided ? 1.0f : 0.0f;
+    active[slot] = 1.0f;
+  }
+  // Not a triangle-light point: the kernel gives the slot 0 (p_hat and density are the caller's to find); its
+  // point is left as it was (the kernel computes on it, masked, and nobody reads it).
+  void clear(int slot) { active[slot] = 0.0f; }
+  // The point set() stored.
+  LightPoint point(int slot) const {
+    return {vec3(x[slot], y[slot], z[slot]), vec3(nx[slot], ny[slot], nz[slot]),
+            vec3(radiance[0][slot], radiance[1][slot], radiance[2][slot]), two_sided[slot] > 0.0f};
+  }
 };
 
 // The unshadowed contribution of one sample per pixel of a batch (di_contribution's value), per channel.
