@@ -310,22 +310,4 @@ void Tracer::occluded16(RayPacket16& packet) const {
 
 // Moves p off its surface along ng, on the side `towards` points to; the offset grows with the
 // scene's scale and with |p| (float spacing), so it works from millimetre to kilometre scenes.
-vec3 Tracer::offset_point(const vec3& p, const vec3& ng, const vec3& towards) const {
-  float magnitude = max_component(glm::abs(p));
-  float eps = epsilon_ + 4e-6f * magnitude;
-  return p + (glm::dot(ng, towards) >= 0.0f ? ng : -ng) * eps;
-}
-
-Ray Tracer::spawn_ray(const vec3& p, const vec3& ng, const vec3& d) const {
-  return Ray{offset_point(p, ng, d), d, 0.0f, kInfinity};
-}
-
-Ray Tracer::spawn_ray_to(const vec3& p, const vec3& ng, const vec3& q, const vec3& nq) const {
-  vec3 o = offset_point(p, ng, q - p);
-  vec3 e = offset_point(q, nq, o - q);
-  vec3 d = e - o;
-  float len = glm::length(d);
-  return Ray{o, d / std::max(len, 1e-30f), 0.0f, len * (1.0f - 1e-4f)};
-}
-
 }  // namespace candela

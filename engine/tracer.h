@@ -78,13 +78,25 @@ class Tracer {
   static bool occluded_lane(const RayPacket16& packet, int lane) { return packet.rayhit.ray.tfar[lane] < 0.0f; }
 
   // A ray leaving surface point p (geometric normal ng) in direction d, offset to avoid self-hits.
-  Ray spawn_ray(const vec3& p, const vec3& ng, const vec3& d) const;
+  Ray spawn_ray(const vec3& p, const vec3& ng, const vec3& d) const {
+    return Ray{offset_point(p, ng, d), d, 0.0f, kInfinity};
+  }
   // A shadow ray from p (normal ng) to q (normal nq); both ends offset, tmax stops short of q.
-  Ray spawn_ray_to(const vec3& p, const vec3& ng, const vec3& q, const vec3& nq) const;
+  Ray spawn_ray_to(const vec3& p, const vec3& ng, const vec3& q, const vec3& nq) const {
+    vec3 o = offset_point(p, ng, q - p);
+    vec3 e = offset_point(q, nq, o - q);
+    vec3 d = e - o;
+    float len = glm::length(d);
+    return Ray{o, d / std::max(len, 1e-30f), 0.0f, len * (1.0f - 1e-4f)};
+  }
   float scene_radius() const { return scene_radius_; }
 
  private:
-  vec3 offset_point(const vec3& p, const vec3& ng, const vec3& towards) const;
+  vec3 offset_point(const vec3& p, const vec3& ng, const vec3& towards) const {
+    float magnitude = max_component(glm::abs(p));
+    float eps = epsilon_ + 4e-6f * magnitude;
+    return p + (glm::dot(ng, towards) >= 0.0f ? ng : -ng) * eps;
+  }
   RTCGeometry new_triangle_geometry(const Scene& scene, int mesh, const mat4* transform);
   // Scene instance index of lane's hit after intersect16, kNoHit where it hit nothing or was inactive.
   uint32_t lane_instance(const RayPacket16& packet, int lane) const {

@@ -54,16 +54,4 @@ PowerLightSampler::PowerLightSampler(const LightList& lights) {
   for (uint32_t i = 0; i < n; ++i) bins_[i].pmf = pmf_[i], bins_[i].alias_pmf = pmf_[bins_[i].alias];
 }
 
-// u.x picks the bin, u.y decides between the bin and its alias.
-SampledLight PowerLightSampler::sample(const ShadingContext&, vec2 u) const {
-  if (bins_.empty()) return {};
-  const uint32_t bin = bin_of(u);
-  // The bin or its alias chosen without a branch: the choice is a coin flip per sample, and the mispredicted
-  // branch cost about half of a sample in the profile.
-  const Bin& b = bins_[bin];
-  const uint32_t keep = 0u - uint32_t(u.y < b.threshold);
-  const uint32_t pmf = (std::bit_cast<uint32_t>(b.pmf) & keep) | (std::bit_cast<uint32_t>(b.alias_pmf) & ~keep);
-  return {(bin & keep) | (b.alias & ~keep), std::bit_cast<float>(pmf)};
-}
-
 }  // namespace candela
