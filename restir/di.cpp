@@ -25,7 +25,8 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
               std::vector<DiVisibility>& visibility, Image& sum, RayCounter& rays, Counter& non_finite) {
   const bool reusing = reuse.max_age > 0 && reuse.history_pixel && reuse.previous &&
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
-  visibility.assign(g.size(), DiVisibility{});
+  visibility.resize(
+      g.size());  // every pixel's verdict is written below (in parallel, where a fill here ran on one thread)
   auto finish = [&](size_t i, const vec3& L) {
     if (is_finite(L))
       sum.pixels[i] += L;
@@ -74,6 +75,7 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         const size_t i = first + size_t(s);
         vec3 L = unsampled ? g.emission[i] + (*unsampled)[i] : vec3(0.0f);
         const DiReservoir& r = reservoirs[i];
+        visibility[i] = DiVisibility{};
         if (g.hit(i) && r.W > 0.0f) {
           const vec3 value =
               simd && lanes.samples.active[s] > 0.0f

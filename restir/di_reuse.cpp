@@ -335,12 +335,13 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
                        std::vector<int32_t>& history_pixel, RayCounter& rays) {
-  history_pixel.assign(g.size(), -1);
   if (history.size() != g.size() || previous.surfaces.size() != g.size()) {
+    history_pixel.assign(g.size(), -1);
     out = reservoirs;
     return;
   }
-  out.resize(reservoirs.size());  // every pixel is written by its tile row below
+  history_pixel.resize(g.size());  // every pixel is written by its tile row below
+  out.resize(reservoirs.size());   // every pixel is written by its tile row below
   // Last frame's pixel under pixel i's surface point, or -1: reprojected with the motion vectors (which
   // start at the jittered film position), and only where that pixel's surface is similar.
   auto reprojected = [&](size_t i, int x, int y) -> int64_t {
@@ -391,6 +392,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
       for (int s = 0; s < slots; ++s) {
         const size_t i = first + size_t(s);
         batch.row.count[s] = 0;
+        history_pixel[i] = -1;
         const int64_t j = reprojected(i, tile.x0 + s, y);
         if (j < 0) continue;
         DiReservoir& aged = batch.aged[s];
