@@ -22,6 +22,8 @@ class Svgf {
   void reset() { history_.valid = false; }
 
  private:
+  void keep_history(const ColorPlanes& color);
+
   SvgfParams params_;
   Guides guides_;
   ColorPlanes illumination_;
