@@ -5,7 +5,7 @@
 // The kernels (Google Highway, runtime dispatch) repeat the scalar code's operations in its order, without
 // fused multiply-adds, so they give its bits: ReSTIR's receivers (restir/receiver_lanes.h) and the path
 // vertices of engine/path_batch.h use them, and the scalar Bsdf stays the reference
-// (tests/test_target_lanes.cpp, tests/test_path_batch.cpp).
+// (tests/test_target_lanes.cpp; PathBatch.GivesTracePathBits in tests/test_path_tracer.cpp).
 #include <cstdint>
 
 #include "engine/bsdf.h"
@@ -24,6 +24,12 @@ struct BsdfLanes {
   alignas(64) int32_t albedo_row[kLaneSlots];
   alignas(64) float albedo_weight[kLaneSlots], g1_o[kLaneSlots], p_specular[kLaneSlots];
   void set(int slot, const BsdfWoTerms& t);
+  // The direction Bsdf::sample draws for slot s's BSDF seen along wo (sample_bsdf_direction with the slot's
+  // normal, alpha and lobe probability); false if there is none. Its value and density: evaluate_bsdf_lanes.
+  bool sample_direction(int slot, const vec3& wo, vec2 u, float u_lobe, vec3& wi) const {
+    return sample_bsdf_direction(Frame::from_normal(vec3(nx[slot], ny[slot], nz[slot])), alpha[slot], wo, u, u_lobe,
+                                 p_specular[slot], wi);
+  }
 };
 
 // What the Bsdf constructor reads (shading normal and material), one plane per component.

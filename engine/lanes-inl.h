@@ -1,8 +1,8 @@
-// Highway helpers shared by the SIMD kernels over pixels (engine/gbuffer_lanes.cpp, restir/target_lanes.cpp,
-// restir/receiver_lanes.cpp): vectors of 3-vectors and the scalar code's dot and cross products, normalise and
-// GGX albedo lookup, each repeating the scalar operations in
-// the same order so that the kernels keep the scalar code's bits. Included once per instruction set by
-// each kernel's foreach_target.h pass, hence the toggling include guard (Highway's "-inl.h" convention).
+// Highway helpers shared by the SIMD kernels over pixels (engine/gbuffer_lanes.cpp, engine/bsdf_lanes-inl.h and
+// its users, restir/resample_lanes.cpp): vectors of 3-vectors and the scalar code's dot and cross products, normalise
+// and GGX albedo lookup, each repeating the scalar operations in the same order so that the kernels keep the scalar
+// code's bits. Included once per instruction set by each kernel's foreach_target.h pass, hence the toggling include
+// guard (Highway's "-inl.h" convention).
 #if defined(CANDELA_ENGINE_LANES_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef CANDELA_ENGINE_LANES_INL_H_
 #undef CANDELA_ENGINE_LANES_INL_H_

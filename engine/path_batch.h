@@ -65,8 +65,7 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     const float lobe = rng.next_float();
     const vec3 wo(b.vertices.wox[j], b.vertices.woy[j], b.vertices.woz[j]);
     vec3 wi;
-    if (sample_bsdf_direction(Frame::from_normal(sp.shading_normal), b.bsdf.alpha[j], wo, u, lobe, b.bsdf.p_specular[j],
-                              wi))
+    if (b.bsdf.sample_direction(j, wo, u, lobe, wi))
       b.next.x[j] = wi.x, b.next.y[j] = wi.y, b.next.z[j] = wi.z, b.next.active[j] = 1.0f;
   }
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, true, b.light);

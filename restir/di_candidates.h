@@ -203,9 +203,8 @@ inline void draw_bsdf_candidates(const GBuffer& g, const DiParams& params, int s
       // The exact receiver's shading normal, alpha and lobe probability and wo (the same as the packed
       // receiver's: both come from the G-buffer's position) from the lanes.
       const BsdfLanes& t = batch.lanes.exact;
-      const Frame frame = Frame::from_normal(vec3(t.nx[slot], t.ny[slot], t.nz[slot]));
       const vec3 wo(batch.lanes.wox[slot], batch.lanes.woy[slot], batch.lanes.woz[slot]);
-      if (sample_bsdf_direction(frame, t.alpha[slot], wo, ub, lobe, t.p_specular[slot], c.sample.wi) &&
+      if (t.sample_direction(slot, wo, ub, lobe, c.sample.wi) &&
           glm::dot(c.sample.wi, g.geometric_normal[b.pixel]) > 0.0f) {
         lanes->x[slot] = c.sample.wi.x, lanes->y[slot] = c.sample.wi.y, lanes->z[slot] = c.sample.wi.z;
         lanes->active[slot] = 1.0f;

@@ -42,8 +42,7 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
     row.tag[s] = tag, row.u[s] = u;
     const vec3 wo(row.receivers.wox[s], row.receivers.woy[s], row.receivers.woz[s]);
     vec3 wi;
-    if (sample_bsdf_direction(Frame::from_normal(g.shading_normal[i]), bsdf.alpha[s], wo, ub, lobe, bsdf.p_specular[s],
-                              wi))
+    if (bsdf.sample_direction(s, wo, ub, lobe, wi))
       row.directions.x[s] = wi.x, row.directions.y[s] = wi.y, row.directions.z[s] = wi.z, row.directions.active[s] = 1;
   }
   // The directions' densities (Bsdf::sample's), in lanes; then the paths of the directions it accepts that
