@@ -136,7 +136,7 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
   // Stage(s) of the denoiser (timed inside): the displayed image, filtered with this frame's G-buffer and
   // reprojected with last frame's.
   if (settings_.denoise.kind != DenoiserKind::None)
-    denoised_ = denoiser_.denoise(gbuffer_, prev_gbuffer_, noisy_image(), stats);
+    denoiser_.denoise(gbuffer_, prev_gbuffer_, noisy_image(), stats, denoised_);
   stats.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }

@@ -87,14 +87,15 @@ void cross_bilateral(const Guides& guides, const BilateralParams& params, const 
   filter_image(guides, params.edges, vertical, second);
 }
 
-Image BilateralDenoiser::denoise(const GBuffer& current, const GBuffer&, const Image& noisy, FrameStats& stats) {
-  prepare_frame(current, noisy, guides_, illumination_, stats);
+void BilateralDenoiser::denoise(const GBuffer& current, const GBuffer&, const Image& noisy, FrameStats& stats,
+                                Image& out) {
+  prepare_frame(current, noisy, true, guides_, illumination_, stats);
   {
     StageTimer timer(stats, "bilateral");
     cross_bilateral(guides_, params_, illumination_, scratch_, filtered_);
   }
   StageTimer timer(stats, "denoise_remodulate");
-  return remodulate(filtered_, current, guides_, noisy);
+  remodulate(filtered_, current, guides_, noisy, out);
 }
 
 }  // namespace candela

@@ -21,7 +21,7 @@ class BilateralDenoiser {
  public:
   explicit BilateralDenoiser(const BilateralParams& params) : params_(params) {}
   // `previous` is unused (single-frame filter); present so every denoiser is called alike.
-  Image denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats);
+  void denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats, Image& out);
   void reset() {}
 
  private:

@@ -22,22 +22,22 @@ void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, Colo
   });
 }
 
-Image remodulate(const ColorPlanes& filtered, const GBuffer& g, const Guides& guides, const Image& noisy) {
+void remodulate(const ColorPlanes& filtered, const GBuffer& g, const Guides& guides, const Image& noisy, Image& out) {
   CHECK(filtered.width == g.width && filtered.height == g.height && noisy.width == g.width && noisy.height == g.height);
-  Image out(g.width, g.height);
+  if (out.width != g.width || out.height != g.height) out = Image(g.width, g.height);
   for_each_row(g.height, [&](int y) {
     for (size_t i = size_t(y) * g.width, end = i + g.width; i < end; ++i)
       out.pixels[i] = guides.filtered[i] ? filtered.at(i) * albedo_floor(g.albedo[i]) + g.emission[i]
                       : g.hit(i)         ? filtered.at(i)
                                          : noisy.pixels[i];
   });
-  return out;
 }
 
-void prepare_frame(const GBuffer& g, const Image& noisy, Guides& guides, ColorPlanes& illumination, FrameStats& stats) {
+void prepare_frame(const GBuffer& g, const Image& noisy, bool with_albedo, Guides& guides, ColorPlanes& illumination,
+                   FrameStats& stats) {
   {
     StageTimer timer(stats, "denoise_guides");
-    compute_guides(g, guides);
+    compute_guides(g, with_albedo, guides);
   }
   StageTimer timer(stats, "denoise_demodulate");
   demodulate(noisy, g, guides, illumination, timer.non_finite());

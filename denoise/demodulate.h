@@ -22,12 +22,15 @@ void demodulate(const Image& noisy, const GBuffer& g, const Guides& guides, Colo
                 Counter& non_finite);
 
 // Stage "denoise_remodulate": reads the filtered illumination, the G-buffer, the guides' filtered mask
-// and the noisy radiance; returns filtered * max(albedo, kMinAlbedo) + Le at filtered pixels, `filtered`
-// itself at the other hits (radiance, see demodulate) and the noisy radiance where nothing was hit
-// (background). One pass, O(pixels).
-Image remodulate(const ColorPlanes& filtered, const GBuffer& g, const Guides& guides, const Image& noisy);
+// and the noisy radiance; writes `out` (resized only when its size differs, so that a frame loop reuses
+// its pixels) = filtered * max(albedo, kMinAlbedo) + Le at filtered pixels, `filtered` itself at the other
+// hits (radiance, see demodulate) and the noisy radiance where nothing was hit (background). One pass,
+// O(pixels).
+void remodulate(const ColorPlanes& filtered, const GBuffer& g, const Guides& guides, const Image& noisy, Image& out);
 
-// The shared start of every denoiser's frame, timed as stages "denoise_guides" and "denoise_demodulate".
-void prepare_frame(const GBuffer& g, const Image& noisy, Guides& guides, ColorPlanes& illumination, FrameStats& stats);
+// The shared start of every denoiser's frame, timed as stages "denoise_guides" and "denoise_demodulate";
+// with_albedo: the guides carry albedo planes (the bilateral filter's range term).
+void prepare_frame(const GBuffer& g, const Image& noisy, bool with_albedo, Guides& guides, ColorPlanes& illumination,
+                   FrameStats& stats);
 
 }  // namespace candela

@@ -15,9 +15,10 @@ static std::variant<NoDenoiser, BilateralDenoiser, Svgf> make_denoiser(const Den
 
 Denoiser::Denoiser(const DenoiserParams& params) : impl_(make_denoiser(params)) {}
 
-Image Denoiser::denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats) {
+void Denoiser::denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats,
+                       Image& out) {
   CHECK(noisy.width == current.width && noisy.height == current.height);
-  return std::visit([&](auto& d) { return d.denoise(current, previous, noisy, stats); }, impl_);
+  std::visit([&](auto& d) { d.denoise(current, previous, noisy, stats, out); }, impl_);
 }
 
 void Denoiser::reset() {

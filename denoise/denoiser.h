@@ -3,8 +3,8 @@
 // (parameter structs in denoise/params.h), dispatched statically (std::variant, once per frame).
 //
 //   Denoiser denoiser(DenoiserParams{DenoiserKind::Svgf});
-//   Image clean = denoiser.denoise(gbuffer, prev_gbuffer, noisy, stats);  // each frame
-//   denoiser.reset();                                                   // on a camera cut
+//   denoiser.denoise(gbuffer, prev_gbuffer, noisy, stats, clean);  // each frame, into Image clean
+//   denoiser.reset();                                             // on a camera cut
 #include <variant>
 
 #include "denoise/bilateral.h"
@@ -15,7 +15,7 @@ namespace candela {
 
 // DenoiserKind::None: the noisy image, unchanged.
 struct NoDenoiser {
-  Image denoise(const GBuffer&, const GBuffer&, const Image& noisy, FrameStats&) { return noisy; }
+  void denoise(const GBuffer&, const GBuffer&, const Image& noisy, FrameStats&, Image& out) { out = noisy; }
   void reset() {}
 };
 
@@ -23,8 +23,10 @@ class Denoiser {
  public:
   explicit Denoiser(const DenoiserParams& params);
   // `current` and `noisy` describe this frame (same size); `previous` is the G-buffer of the previous
-  // call's frame (used by SVGF's reprojection; empty on the first frame). Stage times go into `stats`.
-  Image denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats);
+  // call's frame (used by SVGF's reprojection; empty on the first frame). Stage times go into `stats`. Writes
+  // the filtered image into `out`, whose pixels are reused when it already has this size (a new 1280x720
+  // image per frame cost SVGF ~1-2 ms in page faults).
+  void denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats, Image& out);
   void reset();
 
  private:

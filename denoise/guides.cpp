@@ -29,16 +29,16 @@ static bool emission_edge(const GBuffer& g, int x, int y) {
   return false;
 }
 
-void compute_guides(const GBuffer& g, Guides& out) {
+void compute_guides(const GBuffer& g, bool with_albedo, Guides& out) {
   CHECK(g.width > 0 && g.height > 0);
   if (out.width != g.width || out.height != g.height) {
     out.width = g.width;
     out.height = g.height;
     size_t n = out.size();
     for (std::vector<float>* p : {&out.depth, &out.depth_slope, &out.nx, &out.ny, &out.nz}) p->assign(n, 0.0f);
-    out.albedo.resize(g.width, g.height);
     out.filtered.assign(n, 0);
   }
+  if (with_albedo && out.albedo.size() != out.size()) out.albedo.resize(g.width, g.height);
   const int w = g.width, h = g.height;
   for_each_row(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
@@ -50,7 +50,7 @@ void compute_guides(const GBuffer& g, Guides& out) {
       out.nx[i] = n.x;
       out.ny[i] = n.y;
       out.nz[i] = n.z;
-      out.albedo.set(i, g.albedo[i]);
+      if (with_albedo) out.albedo.set(i, g.albedo[i]);
       out.depth_slope[i] = hit ? axis_slope(g, i, x > 0 ? i - 1 : i, x + 1 < w ? i + 1 : i) +
                                      axis_slope(g, i, y > 0 ? i - w : i, y + 1 < h ? i + w : i)
                                : 0.0f;

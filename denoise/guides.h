@@ -15,7 +15,7 @@ struct Guides {
   std::vector<float> depth_slope;  // |dz/dx| + |dz/dy| (per pixel) on the pixel's own surface; 0 off hits
   std::vector<float> nx, ny, nz;   // shading normal; 0 where the pixel is not filtered, so every normal
                                    // weight towards it is 0 and no filter gathers from it
-  ColorPlanes albedo;
+  ColorPlanes albedo;              // empty unless asked for (compute_guides' with_albedo)
   // 1 where the pixel is filtered: a surface was hit and no hit pixel of its 3x3 block has a different
   // emission. At an emitter's border, demodulation cannot be trusted: the radiance's own primary samples
   // may land elsewhere in the pixel than the G-buffer's (the path tracer jitters them independently),
@@ -26,9 +26,10 @@ struct Guides {
   size_t size() const { return size_t(width) * size_t(height); }
 };
 
-// Stage "denoise_guides": reads the G-buffer's depth, shading normal, albedo, emission and instance
-// planes; writes every plane of `out`. One pass, O(pixels); the slope reads the 4 neighbours' depth and
-// instance, the filtered mask the 3x3 block's emission.
-void compute_guides(const GBuffer& g, Guides& out);
+// Stage "denoise_guides": reads the G-buffer's depth, shading normal, emission and instance planes (and
+// albedo, with_albedo); writes every plane of `out` (the albedo planes only with_albedo: SVGF has no use for
+// them, and they are a quarter of the pass's memory traffic). One pass, O(pixels); the slope reads the 4
+// neighbours' depth and instance, the filtered mask the 3x3 block's emission.
+void compute_guides(const GBuffer& g, bool with_albedo, Guides& out);
 
 }  // namespace candela

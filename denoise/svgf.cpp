@@ -26,8 +26,8 @@ void Svgf::keep_history(const ColorPlanes& color) {
   });
 }
 
-Image Svgf::denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats) {
-  prepare_frame(current, noisy, guides_, illumination_, stats);
+void Svgf::denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats, Image& out) {
+  prepare_frame(current, noisy, false, guides_, illumination_, stats);
   {
     StageTimer timer(stats, "svgf_temporal");
     svgf_temporal(current, previous, guides_, illumination_, history_, params_, atrous_[0], moments_);
@@ -49,7 +49,7 @@ Image Svgf::denoise(const GBuffer& current, const GBuffer& previous, const Image
   }
   history_.valid = true;
   StageTimer timer(stats, "denoise_remodulate");
-  return remodulate(atrous_[last].color, current, guides_, noisy);
+  remodulate(atrous_[last].color, current, guides_, noisy, out);
 }
 
 }  // namespace candela

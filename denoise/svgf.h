@@ -16,8 +16,9 @@ class Svgf {
   explicit Svgf(const SvgfParams& params = {});
   // Denoises one frame of noisy radiance seen through `current`; `previous` is the G-buffer of the frame
   // denoised before (any size, e.g. empty, on the first frame: then there is no history). Stages:
-  // denoise_guides, denoise_demodulate, svgf_temporal, svgf_variance, svgf_atrous, denoise_remodulate.
-  Image denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats);
+  // denoise_guides, denoise_demodulate, svgf_temporal, svgf_variance, svgf_atrous, denoise_remodulate. Writes
+  // `out` (see Denoiser::denoise).
+  void denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats, Image& out);
   // Forgets the history (camera cut, scene change): the next frame starts afresh.
   void reset() { history_.valid = false; }
 

@@ -22,6 +22,14 @@
 namespace candela {
 namespace {
 
+// One frame of `denoiser` (Denoiser, Svgf, ...) into a new image.
+template <class D>
+Image denoised(D& denoiser, const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats) {
+  Image out;
+  denoiser.denoise(current, previous, noisy, stats, out);
+  return out;
+}
+
 // --- Rendered frames -------------------------------------------------------------------------------
 
 constexpr int kW = 128, kH = 72;
@@ -72,7 +80,7 @@ Image denoise_sequence(DenoiserKind kind, const Sequence& s) {
   Image out;
   for (size_t f = 0; f < s.noisy.size(); ++f) {
     FrameStats stats;
-    out = denoiser.denoise(s.gbuffers[f], f > 0 ? s.gbuffers[f - 1] : none, s.noisy[f], stats);
+    denoiser.denoise(s.gbuffers[f], f > 0 ? s.gbuffers[f - 1] : none, s.noisy[f], stats, out);
   }
   return out;
 }
@@ -105,7 +113,7 @@ void expect_five_times_lower(const Scene& scene, const char* name) {
   Image reference = render_reference(scene);
   Sequence s = render_sequence(scene, 8, 5);
   Guides guides;
-  compute_guides(s.gbuffers.back(), guides);
+  compute_guides(s.gbuffers.back(), false, guides);
   auto filtered = [&](size_t i) { return guides.filtered[i] != 0; };
   auto all = [](size_t) { return true; };
   size_t filtered_count = 0;
@@ -166,7 +174,7 @@ TEST(DenoiseRendered, SvgfIsTemporallyStable) {
   std::vector<Image> out;
   for (size_t f = 0; f < s.noisy.size(); ++f) {
     FrameStats stats;
-    out.push_back(svgf.denoise(s.gbuffers[f], f > 0 ? s.gbuffers[f - 1] : none, s.noisy[f], stats));
+    out.push_back(denoised(svgf, s.gbuffers[f], f > 0 ? s.gbuffers[f - 1] : none, s.noisy[f], stats));
   }
   auto mean_change = [](const std::vector<Image>& frames) {
     double sum = 0.0;
@@ -207,8 +215,8 @@ TEST(DenoiseRendered, SvgfTemporalLanesGiveTheScalarBits) {
       camera.target += vec3(0.037f * t, 0.011f * t, 0.0f);
       testing::render_checked(renderer, f, 0.0f, camera);
       FrameStats stats;
-      const Image a = lanes.denoise(renderer.gbuffer(), previous, renderer.image(), stats);
-      const Image b = scalar.denoise(renderer.gbuffer(), previous, renderer.image(), stats);
+      const Image a = denoised(lanes, renderer.gbuffer(), previous, renderer.image(), stats);
+      const Image b = denoised(scalar, renderer.gbuffer(), previous, renderer.image(), stats);
       ASSERT_EQ(a.pixels.size(), b.pixels.size());
       size_t differ = 0;
       for (size_t i = 0; i < a.pixels.size(); ++i) differ += std::memcmp(&a.pixels[i], &b.pixels[i], sizeof(vec3)) != 0;
@@ -282,7 +290,7 @@ Image denoise_still(DenoiserKind kind, const GBuffer& g, const std::function<flo
   Image out;
   for (int f = 0; f < frames; ++f) {
     FrameStats stats;
-    out = denoiser.denoise(g, f > 0 ? g : none, shade(g, irradiance, uint64_t(f)), stats);
+    denoiser.denoise(g, f > 0 ? g : none, shade(g, irradiance, uint64_t(f)), stats, out);
   }
   return out;
 }
@@ -328,7 +336,7 @@ TEST(DenoiseSynthetic, DemodulationKeepsTextureSharp) {
   for (DenoiserKind kind : {DenoiserKind::Bilateral, DenoiserKind::Svgf}) {
     Denoiser denoiser(DenoiserParams{kind});
     FrameStats stats;
-    Image out = denoiser.denoise(g, GBuffer{}, exact, stats);
+    Image out = denoised(denoiser, g, GBuffer{}, exact, stats);
     for (size_t i = 0; i < out.pixels.size(); ++i)
       ASSERT_NEAR(out.pixels[i].x, exact.pixels[i].x, 1e-4 * exact.pixels[i].x) << "pixel " << i;
   }
@@ -392,7 +400,7 @@ TEST(DenoiseSynthetic, EmitterBordersFeedNoFilter) {
         for (int x = 0; x < g.width; ++x)
           if (border(x, y)) noisy.pixels[size_t(y) * g.width + x] += vec3(10.0f);
       FrameStats stats;
-      out = denoiser.denoise(g, f > 0 ? g : none, noisy, stats);
+      denoiser.denoise(g, f > 0 ? g : none, noisy, stats, out);
     }
     const char* name = kind == DenoiserKind::Svgf ? "svgf" : "bilateral";
     const double around = region_mean(out, band);
@@ -425,10 +433,10 @@ TEST(DenoiseSynthetic, NoGhostingAfterDisocclusion) {
   GBuffer none;
   FrameStats stats;
   for (int f = 0; f < 12; ++f)
-    svgf.denoise(before, f > 0 ? before : none, shade(before, irradiance, uint64_t(f)), stats);
+    denoised(svgf, before, f > 0 ? before : none, shade(before, irradiance, uint64_t(f)), stats);
   for (int n = 1; n <= 4; ++n) {
     const GBuffer& prev = n == 1 ? before : after;
-    Image out = svgf.denoise(after, prev, shade(after, irradiance_after, uint64_t(100 + n)), stats);
+    Image out = denoised(svgf, after, prev, shade(after, irradiance_after, uint64_t(100 + n)), stats);
     double value = region_mean(out, uncovered);
     std::printf("frame %d after the move: uncovered region %.4f (true 0.5)\n", n, value);
     EXPECT_NEAR(value, 0.5, 0.05) << "frame " << n << " after the disocclusion";
@@ -455,8 +463,9 @@ TEST(DenoiseSynthetic, StagesAreTimed) {
   Image noisy = shade(
       g, [](int, int) { return 1.0f; }, 0);
   FrameStats svgf_stats, bilateral_stats;
-  Denoiser(DenoiserParams{DenoiserKind::Svgf}).denoise(g, GBuffer{}, noisy, svgf_stats);
-  Denoiser(DenoiserParams{DenoiserKind::Bilateral}).denoise(g, GBuffer{}, noisy, bilateral_stats);
+  Denoiser svgf(DenoiserParams{DenoiserKind::Svgf}), bilateral(DenoiserParams{DenoiserKind::Bilateral});
+  denoised(svgf, g, GBuffer{}, noisy, svgf_stats);
+  denoised(bilateral, g, GBuffer{}, noisy, bilateral_stats);
   auto names = [](const FrameStats& s) {
     std::vector<std::string> n;
     for (const StageStats& st : s.stages) n.push_back(st.name);
@@ -479,7 +488,8 @@ TEST(DenoiseSynthetic, NonFiniteInputIsCounted) {
   noisy.pixels[40] = vec3(std::numeric_limits<float>::quiet_NaN());
   noisy.pixels[41] = vec3(std::numeric_limits<float>::infinity(), 0.0f, 0.0f);
   FrameStats stats;
-  const Image out = Denoiser(DenoiserParams{DenoiserKind::Svgf}).denoise(g, GBuffer{}, noisy, stats);
+  Denoiser svgf(DenoiserParams{DenoiserKind::Svgf});
+  const Image out = denoised(svgf, g, GBuffer{}, noisy, stats);
   EXPECT_EQ(stats.non_finite(), 2u);
   for (const StageStats& s : stats.stages) EXPECT_EQ(s.non_finite, s.name == "denoise_demodulate" ? 2u : 0u) << s.name;
   for (const vec3& p : out.pixels) EXPECT_TRUE(is_finite(p));
