@@ -59,6 +59,10 @@ struct AlbedoKernel {
     c.sb[k] += w * b[q];
   }
   void store(const Chunk& c, size_t i0, int lanes) const {
+    if (lanes == kLanes) {  // a chunk inside the image: whole vectors
+      store_means(filtered_lanes(filtered + i0), load_lanes(c.sw), c.sr, c.sg, c.sb, in, out, i0);
+      return;
+    }
     for (int k = 0; k < lanes; ++k) {
       size_t i = i0 + size_t(k);
       // A filtered pixel's own tap has weight h(0) > 0, so sw > 0 there.

@@ -81,19 +81,30 @@ struct AtrousKernel {
     c.sb[k] += w * b[q];
     c.sv[k] += w * w * var[q];
   }
+  // The lanes' results: filtered pixels take the weighted means, the others keep their input. The centre
+  // tap's weight is h(0)^2 > 0, so sw > 0 at a filtered pixel; elsewhere the quotients are computed and
+  // not used. A chunk inside the image does it on whole vectors (LaneVector).
   void store(const Chunk& c, size_t i0, int lanes) const {
+    if (lanes == kLanes) return store_vector(c, i0);
     for (int k = 0; k < lanes; ++k) {
       size_t i = i0 + size_t(k);
       if (!filtered[i]) {
         copy(i);
         continue;
       }
-      // The centre tap's weight is h(0)^2 > 0, so sw > 0 at a filtered pixel.
       vec3 color = vec3(c.sr[k], c.sg[k], c.sb[k]) / c.sw[k];
       out.color.set(i, color);
       out.luminance[i] = luminance(color);
       out.variance[i] = c.sv[k] / (c.sw[k] * c.sw[k]);
     }
+  }
+  void store_vector(const Chunk& c, size_t i0) const {
+    const LaneMask keep = filtered_lanes(filtered + i0);
+    const LaneVector sw = load_lanes(c.sw);
+    const auto mean = store_means(keep, sw, c.sr, c.sg, c.sb, in.color, out.color, i0);
+    const LaneVector lum = 0.2126f * mean[0] + 0.7152f * mean[1] + 0.0722f * mean[2];  // luminance(), per lane
+    store_lanes(out.luminance.data() + i0, keep ? lum : load_lanes(l + i0));
+    store_lanes(out.variance.data() + i0, keep ? load_lanes(c.sv) / (sw * sw) : load_lanes(var + i0));
   }
 };
 
