@@ -22,14 +22,16 @@ struct Guides {
   // and then L - Le is off by a whole emitter's radiance; those pixels keep their input and feed no
   // filter. Inside an emitter, the reflected light L - Le is filtered like any other.
   std::vector<uint8_t> filtered;
+  std::vector<float> emission_luminance;  // compute_guides' scratch: the luminance of the emission seen
 
   size_t size() const { return size_t(width) * size_t(height); }
 };
 
 // Stage "denoise_guides": reads the G-buffer's depth, shading normal, emission and instance planes (and
 // albedo, with_albedo); writes every plane of `out` (the albedo planes only with_albedo: SVGF has no use for
-// them, and they are a quarter of the pass's memory traffic). One pass, O(pixels); the slope reads the 4
-// neighbours' depth and instance, the filtered mask the 3x3 block's emission.
+// them, and they are a quarter of the pass's memory traffic). Two passes over rows, O(pixels), in loops GCC
+// vectorises: the emission's luminance (the scratch plane emission_luminance), then the filtered mask from
+// the 3x3 block's luminances and instances, and the slope from the 4 neighbours' depth and instance.
 void compute_guides(const GBuffer& g, bool with_albedo, Guides& out);
 
 }  // namespace candela

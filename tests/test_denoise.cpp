@@ -443,6 +443,37 @@ TEST(DenoiseSynthetic, NoGhostingAfterDisocclusion) {
   }
 }
 
+// The guides on a G-buffer built to know them (16x6): depth 1 + 0.25 x + 0.5 y on instance 0 in columns x < 8,
+// depth 9 on instance 1 in the other columns but 12, where nothing is hit. The depth slope is |dz/dx| + |dz/dy|
+// from the neighbours on the pixel's own instance: 0.25 + 0.5 on instance 0 by central differences inside and
+// one-sided ones at the image border and next to instance 1 (a slope taken across instances would be larger),
+// 0 on the flat instance 1 and where nothing is hit. Without emission every hit pixel is filtered and keeps
+// its normal; a pixel without a hit has depth infinity. The albedo planes exist only when asked for.
+// Dropping the vertical slope, or taking slopes across instances, fails it.
+TEST(DenoiseSynthetic, GuidesGiveTheDepthSlopeAndMask) {
+  GBuffer g = make_gbuffer(16, 6, [](int x, int y) -> std::optional<Surface> {
+    if (x == 12) return std::nullopt;
+    if (x < 8) return Surface{1.0f + 0.25f * float(x) + 0.5f * float(y), vec3(0.0f, 0.0f, 1.0f), vec3(0.5f), 0};
+    return Surface{9.0f, vec3(0.0f, 1.0f, 0.0f), vec3(0.5f), 1};
+  });
+  for (bool with_albedo : {false, true}) {
+    Guides guides;
+    compute_guides(g, with_albedo, guides);
+    for (int y = 0; y < 6; ++y)
+      for (int x = 0; x < 16; ++x) {
+        const size_t i = size_t(y) * 16 + size_t(x);
+        const float expected = x == 12 ? 0.0f : x < 8 ? 0.75f : 0.0f;
+        EXPECT_FLOAT_EQ(guides.depth_slope[i], expected) << "pixel " << x << ", " << y;
+        EXPECT_EQ(guides.filtered[i], x == 12 ? 0 : 1) << "pixel " << x << ", " << y;
+        EXPECT_EQ(guides.depth[i], x == 12 ? kInfinity : g.depth[i]);
+        EXPECT_EQ(guides.ny[i], x == 12 || x < 8 ? 0.0f : 1.0f);
+        EXPECT_EQ(guides.nz[i], x < 8 ? 1.0f : 0.0f);
+        if (with_albedo) EXPECT_EQ(guides.albedo.g[i], x == 12 ? 0.0f : 0.5f);
+      }
+    EXPECT_EQ(guides.albedo.size(), with_albedo ? g.size() : 0u);
+  }
+}
+
 // The exponential of the edge-stopping weights: within 3e-4 (relative) of std::exp on [0, 80] (the
 // degree-5 remainder (ln 2)^6 / 720 = 1.5e-4, plus float rounding).
 TEST(DenoiseMath, FastExpMatchesExp) {
