@@ -1,9 +1,11 @@
-// `candela bench --suite restir`: one ReSTIR DI frame with the default parameters (8 light + 1 BSDF
+// `candela bench --suite restir`: one ReSTIR DI frame with the default parameters (4 light + 1 BSDF
 // candidates from the power sampler, temporal and one spatial pass, pairwise MIS, one shadow ray), still
 // camera, after 8 warm-up frames; next to it, the same frame's rays traced alone: its primary rays (4x4
-// packets through pixel centres), its BSDF-candidate rays and its shadow rays (single rays, as the stages
-// trace them), generated before the clock starts. The ratio frame / rays is what the stages between the
-// rays cost. Then the whole ReSTIR frame, DI + GI (`--method restir`, paths up to 8 bounces), with its stages.
+// packets through pixel centres), its BSDF-candidate rays and its shadow rays (single rays), generated
+// before the clock starts. Then the whole ReSTIR frame, DI + GI (`--method restir`, paths up to 8 bounces),
+// with its stages. For both methods, a frame's own queries recorded (engine/ray_log.h) and replayed alone:
+// every packet and single ray as the frame traced it. The ratios frame / rays are what the stages between
+// the rays cost.
 #include <benchmark/benchmark.h>
 
 #include <functional>
@@ -14,6 +16,7 @@
 #include "apps/renderer.h"
 #include "apps/scene_source.h"
 #include "engine/parallel.h"
+#include "engine/ray_log.h"
 
 namespace candela {
 
@@ -25,6 +28,8 @@ struct RestirBenchScene {
   CameraDesc camera;
   int frame = 0;
   std::vector<Ray> bsdf_rays, shadow_rays;
+  RayLog log;                                           // one frame's queries, after the warm-up
+  uint64_t frame_rays = 0;                              // the rays that frame counted in its stats
   std::map<std::string, std::vector<double>> stage_ms;  // per stage, one entry per measured frame
   std::string name;
 };
@@ -62,6 +67,13 @@ uint64_t trace_alone(const RestirBenchScene& s) {
   return rays + s.bsdf_rays.size() + s.shadow_rays.size();
 }
 
+// One more frame with its ray queries recorded into s.log.
+void record_frame(RestirBenchScene& s) {
+  s.renderer->set_ray_log(&s.log);
+  s.frame_rays = s.renderer->render_frame(s.frame++, 0.0f, s.camera).rays();
+  s.renderer->set_ray_log(nullptr);
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -94,11 +106,15 @@ int run_restir_bench(const BenchOptions& o) {
     for (Method method : {Method::RestirDi, Method::Restir}) {
       scenes.push_back(warm_scene(source, method, o));
       RestirBenchScene* p = scenes.back().get();
-      register_rays_benchmark((method == Method::Restir ? "restir_frame/" : "restir_di_frame/") + p->name, o, [p] {
+      const std::string prefix = method == Method::Restir ? "restir_" : "restir_di_";
+      register_rays_benchmark(prefix + "frame/" + p->name, o, [p] {
         FrameStats stats = p->renderer->render_frame(p->frame++, 0.0f, p->camera);
         for (const StageStats& stage : stats.stages) p->stage_ms[stage.name].push_back(stage.ms);
         return stats.rays();
       });
+      record_frame(*p);
+      register_rays_benchmark(prefix + "rays_replayed/" + p->name, o,
+                              [p] { return p->log.replay(p->renderer->tracer()); });
       if (method == Method::Restir) continue;
       capture_rays(*p);
       register_rays_benchmark("restir_di_rays_alone/" + p->name, o, [p] { return trace_alone(*p); });
@@ -112,7 +128,13 @@ int run_restir_bench(const BenchOptions& o) {
     const bool di = s->method == Method::RestirDi;
     double frame =
         BenchResults::median(results.ns_per_iteration, (di ? "restir_di_frame/" : "restir_frame/") + s->name) * 1e-6;
-    std::printf("%-20s %-9s frame %8.1f |", s->name.c_str(), di ? "restir-di" : "restir", frame);
+    const double replayed =
+        BenchResults::median(results.ns_per_iteration,
+                             (di ? "restir_di_" : "restir_") + std::string("rays_replayed/") + s->name) *
+        1e-6;
+    std::printf("%-20s %-9s frame %8.1f | rays replayed %7.1f (%llu recorded, %llu counted) | frame / replayed %5.2f |",
+                s->name.c_str(), di ? "restir-di" : "restir", frame, replayed, (unsigned long long)s->log.rays(),
+                (unsigned long long)s->frame_rays, replayed > 0.0 ? frame / replayed : 0.0);
     if (di) {
       double alone = BenchResults::median(results.ns_per_iteration, "restir_di_rays_alone/" + s->name) * 1e-6;
       std::printf(" its rays alone %7.1f | frame / rays %5.2f |", alone, alone > 0.0 ? frame / alone : 0.0);

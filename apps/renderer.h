@@ -109,6 +109,8 @@ class Renderer {
   const Scene& scene() const { return scene_; }
   const LightList& lights() const { return lights_; }
   const Tracer& tracer() const { return *tracer_; }
+  // Records every ray query of the following frames into `log` (null: stop); see engine/ray_log.h.
+  void set_ray_log(RayLog* log) { tracer_->set_ray_log(log); }
   const RenderSettings& settings() const { return settings_; }
 
  private:

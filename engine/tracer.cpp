@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "engine/check.h"
+#include "engine/ray_log.h"
 #include "engine/rng.h"
 
 namespace candela {
@@ -248,6 +249,7 @@ void Tracer::update_instances(const Scene& scene) {
 }
 
 Hit Tracer::intersect(const Ray& ray) const {
+  if (log_) log_->record(ray, RayQuery::Intersect);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -276,6 +278,7 @@ Hit Tracer::intersect(const Ray& ray) const {
 }
 
 bool Tracer::occluded(const Ray& ray) const {
+  if (log_) log_->record(ray, RayQuery::Occluded);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay r;
@@ -296,6 +299,7 @@ bool Tracer::occluded(const Ray& ray) const {
 }
 
 void Tracer::intersect16(RayPacket16& packet, bool coherent) const {
+  if (log_) log_->record(packet, RayQuery::Intersect, coherent);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -303,6 +307,7 @@ void Tracer::intersect16(RayPacket16& packet, bool coherent) const {
 }
 
 void Tracer::occluded16(RayPacket16& packet) const {
+  if (log_) log_->record(packet, RayQuery::Occluded, false);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   rtcOccluded16(packet.valid, top_, &ctx, &packet.rayhit.ray);

@@ -53,6 +53,11 @@ struct alignas(64) RayPacket16 {
   void start(int lane, vec3 origin, float tmin, float tmax);
 };
 
+// What a query asks for: whether anything blocks the ray, or its closest hit.
+enum class RayQuery { Occluded, Intersect };
+
+class RayLog;
+
 // Sets flush-to-zero and denormals-are-zero for the calling thread (Embree's advice for speed).
 void enable_ftz_daz();
 
@@ -90,6 +95,9 @@ class Tracer {
     return Ray{o, d / std::max(len, 1e-30f), 0.0f, len * (1.0f - 1e-4f)};
   }
   float scene_radius() const { return scene_radius_; }
+  // With a log, every query is recorded into it before it is traced (the benchmark's replay of a frame's rays,
+  // engine/ray_log.h); null: none (the default). Not to be changed while queries run.
+  void set_ray_log(RayLog* log) { log_ = log; }
 
  private:
   vec3 offset_point(const vec3& p, const vec3& ng, const vec3& towards) const {
@@ -120,13 +128,13 @@ class Tracer {
   std::vector<std::unique_ptr<struct AlphaMask>> alpha_masks_;  // per masked mesh, read by the filter
   float scene_radius_ = 1.0f;
   float epsilon_ = 1e-5f;
+  RayLog* log_ = nullptr;
 };
 
 // Rays that neighbouring pixels trace independently (shadow rays, BSDF rays), traced 16 at a time in the
 // order they are queued: add() queues a ray with a tag saying what its answer is for; every 16th add, and
 // finish(), traces the packet (occlusion or closest hit) and calls answer(tag, packet, lane) for each of
 // its rays in queue order (read the lane with Tracer::occluded_lane or Tracer::packet_hit).
-enum class RayQuery { Occluded, Intersect };
 template <class Tag, class Answer>
 class RayQueue16 {
  public:

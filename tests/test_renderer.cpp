@@ -1,11 +1,13 @@
 // The Renderer's life cycle: new settings taken in place (Renderer::apply_settings, what the viewer does on
-// every settings change and dynamic-resolution step) give the frames a new Renderer would.
+// every settings change and dynamic-resolution step) give the frames a new Renderer would; a frame's ray log
+// holds the rays it counts.
 #include <gtest/gtest.h>
 
 #include <cstring>
 
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
+#include "engine/ray_log.h"
 #include "tests/render_helpers.h"
 #include "tests/settings_builder.h"
 
@@ -41,6 +43,33 @@ TEST(Renderer, AppliedSettingsEqualANewRenderer) {
       EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(vec3)))
           << "frame " << f << ", " << a.width << "x" << a.height;
     }
+  }
+}
+
+}  // namespace
+}  // namespace candela
+
+namespace candela {
+namespace {
+
+// The ray log (engine/ray_log.h, the benchmark's replay of a frame's rays) records exactly the rays a frame
+// counts in its stats, for every method (second frame: ReSTIR's temporal reuse runs), and its replay traces
+// as many. A stage that traced rays without counting them (or counted rays it did not trace) fails it, and so
+// would a query the log missed.
+TEST(Renderer, RayLogRecordsTheFramesCountedRays) {
+  for (const char* method : {"pt", "direct", "restir-di", "restir"}) {
+    Renderer renderer(make_builtin_scene("manylights"),
+                      testing::settings({{"width", 48}, {"height", 32}, {"method", method}, {"accumulate", false}}));
+    const CameraDesc camera = renderer.scene().default_camera();
+    renderer.render_frame(0, 0.0f, camera);
+    RayLog log;
+    renderer.set_ray_log(&log);
+    const uint64_t counted = renderer.render_frame(1, 0.0f, camera).rays();
+    renderer.set_ray_log(nullptr);
+    EXPECT_GT(counted, uint64_t(48 * 32)) << method;
+    EXPECT_EQ(log.rays(), counted) << method;
+    EXPECT_EQ(log.replay(renderer.tracer()), counted) << method;
+    EXPECT_EQ(log.rays(), counted) << method << ": the replay recorded nothing more";
   }
 }
 

@@ -1,0 +1,76 @@
+#include "engine/ray_log.h"
+
+#include <atomic>
+#include <cstring>
+
+#include "engine/parallel.h"
+
+namespace candela {
+
+void RayLog::record(const Ray& ray, RayQuery query) { buffers_.local().singles.push_back({ray, query}); }
+
+void RayLog::record(const RayPacket16& packet, RayQuery query, bool coherent) {
+  Packet& p = buffers_.local().packets.emplace_back();
+  p.ray = packet.rayhit.ray;
+  std::memcpy(p.valid, packet.valid, sizeof(p.valid));
+  p.query = query;
+  p.coherent = coherent;
+}
+
+uint64_t RayLog::rays() const {
+  uint64_t n = 0;
+  for (const Buffers& b : buffers_) {
+    n += b.singles.size();
+    for (const Packet& p : b.packets)
+      for (int lane : p.valid) n += lane != 0;
+  }
+  return n;
+}
+
+// Reads the recorded queries; per packet, a copy into a packet with no hit yet and one rtcIntersect16 /
+// rtcOccluded16; per single ray, one rtcIntersect1 / rtcOccluded1.
+uint64_t RayLog::replay(const Tracer& tracer) const {
+  std::vector<const Packet*> packets;
+  std::vector<const Single*> singles;
+  for (const Buffers& b : buffers_) {
+    for (const Packet& p : b.packets) packets.push_back(&p);
+    for (const Single& s : b.singles) singles.push_back(&s);
+  }
+  std::atomic<uint64_t> traced{0};
+  parallel_for_ranges(size_t(0), packets.size(), size_t(64), [&](size_t first, size_t end) {
+    enable_ftz_daz();
+    RayPacket16 packet;
+    uint64_t rays = 0;
+    for (size_t k = first; k < end; ++k) {
+      const Packet& p = *packets[k];
+      packet.rayhit.ray = p.ray;
+      std::memcpy(packet.valid, p.valid, sizeof(packet.valid));
+      for (int lane = 0; lane < 16; ++lane) {
+        packet.rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+        rays += p.valid[lane] != 0;
+      }
+      if (p.query == RayQuery::Occluded)
+        tracer.occluded16(packet);
+      else
+        tracer.intersect16(packet, p.coherent);
+    }
+    traced += rays;
+  });
+  parallel_for_ranges(size_t(0), singles.size(), size_t(1024), [&](size_t first, size_t end) {
+    enable_ftz_daz();
+    for (size_t k = first; k < end; ++k) {
+      const Single& s = *singles[k];
+      if (s.query == RayQuery::Occluded)
+        (void)tracer.occluded(s.ray);
+      else
+        (void)tracer.intersect(s.ray);
+    }
+  });
+  return traced + singles.size();
+}
+
+void RayLog::clear() {
+  for (Buffers& b : buffers_) b.singles.clear(), b.packets.clear();
+}
+
+}  // namespace candela
