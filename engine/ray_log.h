@@ -37,7 +37,7 @@ class RayLog {
     RayQuery query;
   };
   struct alignas(64) Packet {
-    RTCRay16 ray;           // the rays as given to the Tracer (before tracing changed tfar)
+    RTCRay16 ray;  // the rays as given to the Tracer (before tracing changed tfar)
     alignas(64) int valid[16];
     RayQuery query;
     bool coherent;

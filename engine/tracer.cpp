@@ -77,16 +77,6 @@ void Tracer::packet_hits_row4(const RayPacket16& packet, int r, uint32_t* instan
   std::memcpy(v, hit.v + 4 * r, 4 * sizeof(float));
 }
 
-Hit Tracer::packet_hit(const RayPacket16& packet, int lane) const {
-  Hit h;
-  h.instance = lane_instance(packet, lane);
-  if (h.instance == kNoHit) return h;
-  h.t = packet.rayhit.ray.tfar[lane];
-  h.prim = packet.rayhit.hit.primID[lane];
-  h.barycentric = vec2(packet.rayhit.hit.u[lane], packet.rayhit.hit.v[lane]);
-  return h;
-}
-
 // What the alpha filter needs of a MASK or BLEND mesh: its UVs, triangles and the material's alpha inputs.
 struct AlphaMask {
   const Mesh* mesh;
