@@ -2,7 +2,8 @@
 // A frame's ray queries, recorded as the Tracer received them, to be traced again alone: what the rays of a
 // frame cost without the work around them (`candela bench --suite restir` compares a frame's time with its
 // replay). Packets are recorded as packets (with their active lanes and coherence hint) and single rays as
-// single rays, so the replay asks Embree exactly what the frame asked, in the same groupings.
+// single rays, so the replay asks Embree exactly what the frame asked, in the same groupings. Memory: about
+// 900 bytes per packet and 32 per single ray (a 640x360 `restir` frame's 3 million rays: about 170 MB).
 //
 //   RayLog log;
 //   renderer.set_ray_log(&log);  // every query of the next frames is recorded
