@@ -1,6 +1,7 @@
 #include "apps/renderer.h"
 
 #include "engine/check.h"
+#include "engine/parallel.h"
 #include "engine/path_batch.h"
 
 namespace candela {
@@ -194,15 +195,18 @@ void Renderer::apply_settings(const RenderSettings& settings) {
   reset_history();
 }
 
-Image Renderer::image() const {
+const Image& Renderer::image() const {
   return settings_.denoise.kind != DenoiserKind::None && denoised_.width == sum_.width ? denoised_ : noisy_image();
 }
 
-Image Renderer::noisy_image() const {
-  Image out(sum_.width, sum_.height);
-  float inv = accumulated_spp_ > 0 ? 1.0f / float(accumulated_spp_) : 0.0f;
-  for (size_t i = 0; i < out.pixels.size(); ++i) out.pixels[i] = sum_.pixels[i] * inv;
-  return out;
+const Image& Renderer::noisy_image() const {
+  if (noisy_.width != sum_.width || noisy_.height != sum_.height) noisy_ = Image(sum_.width, sum_.height);
+  const float inv = accumulated_spp_ > 0 ? 1.0f / float(accumulated_spp_) : 0.0f;
+  const size_t width = size_t(sum_.width);
+  parallel_for_ranges(0, sum_.height, 8, [&](int y0, int y1) {
+    for (size_t i = size_t(y0) * width; i < size_t(y1) * width; ++i) noisy_.pixels[i] = sum_.pixels[i] * inv;
+  });
+  return noisy_;
 }
 
 }  // namespace candela

@@ -93,10 +93,11 @@ class Renderer {
   // next frames equal a new Renderer's with these settings. Cost: a light sampler build at most.
   void apply_settings(const RenderSettings& settings);
   // The displayed image: accumulated radiance divided by the samples accumulated so far, denoised when
-  // a denoiser is set.
-  Image image() const;
-  // The same before the denoiser.
-  Image noisy_image() const;
+  // a denoiser is set. Valid until the next call that renders, resets or changes settings.
+  const Image& image() const;
+  // The same before the denoiser, computed on each call into a buffer the renderer keeps (rows in parallel;
+  // a new image per frame cost its page faults, and one thread scaled it).
+  const Image& noisy_image() const;
   int accumulated_spp() const { return accumulated_spp_; }
   const GBuffer& gbuffer() const { return gbuffer_; }
   // restir-di, restir: the reservoirs the last frame shaded with (empty for other methods).
@@ -137,6 +138,7 @@ class Renderer {
   uint64_t sample_epoch_ = 0;  // frame that began the current accumulation (keys the Sobol scrambles)
   Denoiser denoiser_;
   Image denoised_;
+  mutable Image noisy_;  // noisy_image()'s buffer
 };
 
 AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& lights);
