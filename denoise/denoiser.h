@@ -25,7 +25,7 @@ class Denoiser {
   // `current` and `noisy` describe this frame (same size); `previous` is the G-buffer of the previous
   // call's frame (used by SVGF's reprojection; empty on the first frame). Stage times go into `stats`. Writes
   // the filtered image into `out`, whose pixels are reused when it already has this size (a new 1280x720
-  // image per frame cost SVGF ~1-2 ms in page faults).
+  // image per frame cost SVGF ~2 ms in page faults).
   void denoise(const GBuffer& current, const GBuffer& previous, const Image& noisy, FrameStats& stats, Image& out);
   void reset();
 

@@ -69,8 +69,4 @@ uint64_t RayLog::replay(const Tracer& tracer) const {
   return traced + singles.size();
 }
 
-void RayLog::clear() {
-  for (Buffers& b : buffers_) b.singles.clear(), b.packets.clear();
-}
-
 }  // namespace candela

@@ -3,7 +3,7 @@
 // frame cost without the work around them (`candela bench --suite restir` compares a frame's time with its
 // replay). Packets are recorded as packets (with their active lanes and coherence hint) and single rays as
 // single rays, so the replay asks Embree exactly what the frame asked, in the same groupings. Memory: about
-// 900 bytes per packet and 32 per single ray (a 640x360 `restir` frame's 3 million rays: about 170 MB).
+// 900 bytes per packet and 36 per single ray (a 640x360 `restir` frame's 3 million rays: about 170 MB).
 //
 //   RayLog log;
 //   renderer.set_ray_log(&log);  // every query of the next frames is recorded
@@ -30,7 +30,6 @@ class RayLog {
   // rtcIntersect16 / rtcOccluded16 and single rays with rtcIntersect1 / rtcOccluded1, spread over the TBB
   // workers. Returns the rays traced. Cost: the recorded queries' traversal, plus copying each packet.
   uint64_t replay(const Tracer& tracer) const;
-  void clear();
 
  private:
   struct Single {
