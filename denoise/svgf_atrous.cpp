@@ -102,8 +102,7 @@ struct AtrousKernel {
     const LaneMask keep = filtered_lanes(filtered + i0);
     const LaneVector sw = load_lanes(c.sw);
     const auto mean = store_means(keep, sw, c.sr, c.sg, c.sb, in.color, out.color, i0);
-    const LaneVector lum = 0.2126f * mean[0] + 0.7152f * mean[1] + 0.0722f * mean[2];  // luminance(), per lane
-    store_lanes(out.luminance.data() + i0, keep ? lum : load_lanes(l + i0));
+    store_lanes(out.luminance.data() + i0, keep ? luminance(mean[0], mean[1], mean[2]) : load_lanes(l + i0));
     store_lanes(out.variance.data() + i0, keep ? load_lanes(c.sv) / (sw * sw) : load_lanes(var + i0));
   }
 };

@@ -18,8 +18,12 @@ inline constexpr float kPi = 3.14159265358979323846f;
 inline constexpr float kInvPi = 1.0f / kPi;
 inline constexpr float kInfinity = 1e30f;
 
-// Rec. 709 luminance of linear RGB.
-inline float luminance(const vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+// Rec. 709 luminance of linear RGB, for any T that scales by a float and adds (float, compiler vectors of floats).
+template <class T>
+inline T luminance(const T& r, const T& g, const T& b) {
+  return 0.2126f * r + 0.7152f * g + 0.0722f * b;
+}
+inline float luminance(const vec3& c) { return luminance(c.x, c.y, c.z); }
 inline float max_component(const vec3& c) { return std::max(c.x, std::max(c.y, c.z)); }
 // Nearest integer, halves rounded up. Inlines to a few instructions, where std::lround is a libm call
 // (it showed as 1.7% of a ReSTIR DI frame).

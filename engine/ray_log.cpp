@@ -21,8 +21,7 @@ uint64_t RayLog::rays() const {
   uint64_t n = 0;
   for (const Buffers& b : buffers_) {
     n += b.singles.size();
-    for (const Packet& p : b.packets)
-      for (int lane : p.valid) n += lane != 0;
+    for (const Packet& p : b.packets) n += p.active();
   }
   return n;
 }
@@ -45,10 +44,8 @@ uint64_t RayLog::replay(const Tracer& tracer) const {
       const Packet& p = *packets[k];
       packet.rayhit.ray = p.ray;
       std::memcpy(packet.valid, p.valid, sizeof(packet.valid));
-      for (int lane = 0; lane < 16; ++lane) {
-        packet.rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
-        rays += p.valid[lane] != 0;
-      }
+      for (int lane = 0; lane < 16; ++lane) packet.rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+      rays += p.active();
       if (p.query == RayQuery::Occluded)
         tracer.occluded16(packet);
       else

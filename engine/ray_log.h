@@ -41,6 +41,11 @@ class RayLog {
     alignas(64) int valid[16];
     RayQuery query;
     bool coherent;
+    uint64_t active() const {  // rays: the active lanes
+      uint64_t n = 0;
+      for (int lane : valid) n += lane != 0;
+      return n;
+    }
   };
   struct Buffers {
     std::vector<Single> singles;

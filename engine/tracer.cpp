@@ -303,6 +303,4 @@ void Tracer::occluded16(RayPacket16& packet) const {
   rtcOccluded16(packet.valid, top_, &ctx, &packet.rayhit.ray);
 }
 
-// Moves p off its surface along ng, on the side `towards` points to; the offset grows with the
-// scene's scale and with |p| (float spacing), so it works from millimetre to kilometre scenes.
 }  // namespace candela

@@ -109,6 +109,8 @@ class Tracer {
   void set_ray_log(RayLog* log) { log_ = log; }
 
  private:
+  // Moves p off its surface along ng, on the side `towards` points to; the offset grows with the
+  // scene's scale and with |p| (float spacing), so it works from millimetre to kilometre scenes.
   vec3 offset_point(const vec3& p, const vec3& ng, const vec3& towards) const {
     float magnitude = max_component(glm::abs(p));
     float eps = epsilon_ + 4e-6f * magnitude;

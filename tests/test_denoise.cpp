@@ -468,7 +468,9 @@ TEST(DenoiseSynthetic, GuidesGiveTheDepthSlopeAndMask) {
         EXPECT_EQ(guides.depth[i], x == 12 ? kInfinity : g.depth[i]);
         EXPECT_EQ(guides.ny[i], x == 12 || x < 8 ? 0.0f : 1.0f);
         EXPECT_EQ(guides.nz[i], x < 8 ? 1.0f : 0.0f);
-        if (with_albedo) EXPECT_EQ(guides.albedo.g[i], x == 12 ? 0.0f : 0.5f);
+        if (with_albedo) {
+          EXPECT_EQ(guides.albedo.g[i], x == 12 ? 0.0f : 0.5f);
+        }
       }
     EXPECT_EQ(guides.albedo.size(), with_albedo ? g.size() : 0u);
   }
