@@ -19,8 +19,6 @@ namespace candela {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using DU = hn::RebindToUnsigned<D>;
-using VU = hn::Vec<DU>;
 using F = GBufferInstances::Field;
 
 // Per-frame constants of the kernel: the two cameras and the background, broadcast once.

@@ -1,8 +1,8 @@
 // Highway helpers shared by the SIMD kernels over pixels (engine/gbuffer_lanes.cpp, engine/bsdf_lanes-inl.h and
-// its users, restir/resample_lanes.cpp): vectors of 3-vectors and the scalar code's dot and cross products, normalise
-// and GGX albedo lookup, each repeating the scalar operations in the same order so that the kernels keep the scalar
-// code's bits. Included once per instruction set by each kernel's foreach_target.h pass, hence the toggling include
-// guard (Highway's "-inl.h" convention).
+// its users, restir/resample_lanes.cpp): vectors of 3-vectors and the scalar code's dot and cross products, normalise,
+// octahedral decoding and GGX albedo lookup, each repeating the scalar operations in the same order so that the kernels
+// keep the scalar code's bits. Included once per instruction set by each kernel's foreach_target.h pass, hence the
+// toggling include guard (Highway's "-inl.h" convention).
 #if defined(CANDELA_ENGINE_LANES_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef CANDELA_ENGINE_LANES_INL_H_
 #undef CANDELA_ENGINE_LANES_INL_H_
@@ -20,8 +20,10 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<float>;
 using DI = hn::RebindToSigned<D>;
+using DU = hn::RebindToUnsigned<D>;
 using V = hn::Vec<D>;
 using VI = hn::Vec<DI>;
+using VU = hn::Vec<DU>;
 using M = hn::Mask<D>;
 
 struct V3 {
@@ -52,6 +54,19 @@ inline V3 normalize(D d, const V3& v) {
 // greater, or smaller: putting c first keeps std's result also for -0 and NaN).
 inline V max_of(V x, V c) { return hn::Max(c, x); }
 inline V min_of(V x, V c) { return hn::Min(c, x); }
+
+// oct_decode (engine/octahedral.h).
+inline V3 oct_decode(D d, VU e) {
+  const DI di;
+  const V scale = hn::Set(d, 2.0f / 65535.0f), one = hn::Set(d, 1.0f), zero = hn::Zero(d);
+  auto coordinate = [&](VU bits) { return hn::Sub(hn::Mul(hn::ConvertTo(d, hn::BitCast(di, bits)), scale), one); };
+  const V x = coordinate(hn::And(e, hn::Set(DU(), 0xffffu))), y = coordinate(hn::ShiftRight<16>(e));
+  const V z = hn::Sub(hn::Sub(one, hn::Abs(x)), hn::Abs(y));
+  const V t = max_of(hn::Neg(z), zero);
+  const V3 n{hn::Add(x, hn::IfThenElse(hn::Ge(x, zero), hn::Neg(t), t)),
+             hn::Add(y, hn::IfThenElse(hn::Ge(y, zero), hn::Neg(t), t)), z};
+  return normalize(d, n);
+}
 
 // GgxAlbedoRow::at: the (a, b) albedo pair at cos_theta, bilinear in sqrt(mu) and roughness, from the
 // row offset and weight of the receiver's roughness.

@@ -1,6 +1,7 @@
 #include "restir/di_reuse.h"
 
 #include "engine/parallel.h"
+#include "restir/neighbour_lanes.h"
 #include "restir/resample_lanes.h"
 #include "restir/reuse_targets.h"
 
@@ -27,12 +28,6 @@ const std::vector<vec2>& neighbour_offsets() {
     return t;
   }();
   return offsets;
-}
-
-// Whether surface b may share samples with surface a (shading normal a_n): close in depth and orientation.
-bool similar(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const DiReuseParams& p) {
-  if (!b.hit() || std::abs(a.depth - b.depth) > p.depth_tolerance * a.depth) return false;
-  return glm::dot(a_n, b.shading_n()) >= p.normal_tolerance;
 }
 
 // A sample of input k as seen by the receiver of input z: samples hold their point as placed in their
@@ -318,6 +313,11 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
 
 }  // namespace
 
+bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const DiReuseParams& p) {
+  if (!b.hit() || std::abs(a.depth - b.depth) > p.depth_tolerance * a.depth) return false;
+  return glm::dot(a_n, b.shading_n()) >= p.normal_tolerance;
+}
+
 void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source,
                     const DiReuseParams& params, float* weights) {
   InputTargets targets(inputs, count, nullptr);
@@ -343,7 +343,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
   history_pixel.resize(g.size());  // every pixel is written by its tile row below
   out.resize(reservoirs.size());   // every pixel is written by its tile row below
   // Last frame's pixel under pixel i's surface point, or -1: reprojected with the motion vectors (which
-  // start at the jittered film position), and only where that pixel's surface is similar.
+  // start at the jittered film position); whether its surface is similar is tested apart.
   auto reprojected = [&](size_t i, int x, int y) -> int64_t {
     if (!g.hit(i) || current.surfaces[i].roughness() < params.min_roughness) return -1;
     vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
@@ -355,9 +355,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
       py ^= int((pattern >> 1) & 1);
     }
     if (px < 0 || py < 0 || px >= g.width || py >= g.height) return -1;
-    size_t j = size_t(py) * g.width + px;
-    return similar(current.surfaces[i], current.surfaces[i].shading_n(), previous.surfaces[j], params) ? int64_t(j)
-                                                                                                       : -1;
+    return int64_t(py) * g.width + px;
   };
   // With visibility in the pairwise weights, whether each history sample is visible from its own surface
   // (against this frame's geometry; the weight of a positive term reads it), into the input, traced 16 at
@@ -383,18 +381,34 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
       ReuseRow row;
       DiReservoir aged[kLaneSlots];
       Rng rng[kLaneSlots];
+      int64_t previous[kLaneSlots];  // the reprojected pixel, or -1
+      NeighbourLanes similar;        // params.simd: whether its surface is similar
     };
     thread_local Batch batch;
     const int slots = tile.x1 - tile.x0;
     uint64_t traced = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
+      for (int s = 0; s < slots; ++s) batch.previous[s] = reprojected(first + size_t(s), tile.x0 + s, y);
+      if (params.simd) {
+        for (int s = 0; s < slots; ++s) {
+          batch.similar.set(s, current.surfaces[first + size_t(s)]);
+          if (batch.previous[s] >= 0)
+            batch.similar.set_neighbour(0, s, previous.surfaces[size_t(batch.previous[s])]);
+          else
+            batch.similar.clear_neighbour(0, s);
+        }
+        similar_neighbour_lanes(batch.similar, 1, slots, params.depth_tolerance, params.normal_tolerance);
+      }
       for (int s = 0; s < slots; ++s) {
         const size_t i = first + size_t(s);
         batch.row.count[s] = 0;
         history_pixel[i] = -1;
-        const int64_t j = reprojected(i, tile.x0 + s, y);
-        if (j < 0) continue;
+        const int64_t j = batch.previous[s];
+        if (j < 0 || !(params.simd ? batch.similar.similar[0][s] != 0
+                                   : similar_surfaces(current.surfaces[i], current.surfaces[i].shading_n(),
+                                                      previous.surfaces[size_t(j)], params)))
+          continue;
         DiReservoir& aged = batch.aged[s];
         aged = history[size_t(j)];
         aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));
@@ -483,27 +497,43 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       d.pixels[d.count++] = j;
     }
   };
-  // The pixel and its similar neighbours, as the inputs of its combination (none without a surface).
-  auto select = [&](size_t i, const Drawn& d, int& count, DiReuseInput* inputs) {
+  // Which of a row's drawn neighbours are similar to their pixels, in lanes (params.simd).
+  auto test_similar = [&](size_t first, int slots, const Drawn* drawn, NeighbourLanes& lanes) {
+    int count = 0;
+    for (int s = 0; s < slots; ++s) count = std::max(count, drawn[s].count);
+    for (int s = 0; s < slots; ++s) {
+      lanes.set(s, surfaces[first + size_t(s)]);
+      for (int c = 0; c < count; ++c)
+        if (c < drawn[s].count)
+          lanes.set_neighbour(c, s, surfaces[drawn[s].pixels[c]]);
+        else
+          lanes.clear_neighbour(c, s);
+    }
+    similar_neighbour_lanes(lanes, count, slots, params.depth_tolerance, params.normal_tolerance);
+  };
+  // The pixel and its similar neighbours, as the inputs of its combination (none without a surface);
+  // `lanes`: their similarity tested in slot s of a row, else null (tested here).
+  auto select = [&](size_t i, const Drawn& d, const NeighbourLanes* lanes, int s, int& count, DiReuseInput* inputs) {
     count = 0;
     if (!d.active) return;
     inputs[count++] = {&in[i], &current, i, in[i].M};
-    const vec3 n = surfaces[i].shading_n();
+    const vec3 n = lanes ? vec3(0.0f) : surfaces[i].shading_n();
     for (int c = 0; c < d.count; ++c) {
       size_t j = d.pixels[c];
-      if (similar(surfaces[i], n, surfaces[j], params))
+      if (lanes ? lanes->similar[c][s] != 0 : similar_surfaces(surfaces[i], n, surfaces[j], params))
         inputs[count++] = {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
     }
   };
   // Per tile row: every pixel's neighbours drawn first (so that the cache misses of their surfaces and
-  // reservoirs, the planes of the 33 rows within the radius exceeding L2, overlap), then selected, then
-  // the row's combinations.
+  // reservoirs, the planes of the 33 rows within the radius exceeding L2, overlap), then tested for
+  // similarity (in lanes with params.simd) and selected, then the row's combinations.
   for_each_tile(width, height, [&](const Tile& tile) {
     struct Batch {
       ReuseRow row;
       Drawn drawn[kLaneSlots];
       Rng rng[kLaneSlots];
       uint32_t start[kLaneSlots] = {};  // block > 1: each slot's block's start
+      NeighbourLanes neighbours;        // params.simd
     };
     thread_local Batch batch;
     const int slots = tile.x1 - tile.x0;
@@ -517,8 +547,10 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       }
       for (int s = 0; s < slots; ++s)
         draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.rng[s], batch.drawn[s]);
+      if (params.simd) test_similar(first, slots, batch.drawn, batch.neighbours);
       for (int s = 0; s < slots; ++s)
-        select(first + size_t(s), batch.drawn[s], batch.row.count[s], batch.row.inputs[s]);
+        select(first + size_t(s), batch.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row.count[s],
+               batch.row.inputs[s]);
       traced += combine_row(view, params, slots, batch.row, batch.rng, first, in, out);
     }
     rays.add(traced);

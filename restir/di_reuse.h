@@ -70,6 +70,12 @@ struct DiReuseInput {
                             // known already; -1: a ray finds out if a weight needs it
 };
 
+// Whether surface b may share samples with surface a (shading normal a_n, decoded by the caller once for
+// all of a's neighbours): b has a surface within params.depth_tolerance of a's depth (relative) and a shading
+// normal whose cosine with a_n is at least params.normal_tolerance. The scalar reference of
+// similar_neighbour_lanes (neighbour_lanes.h), which the stages use with params.simd.
+bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const DiReuseParams& params);
+
 // The resampling MIS weights m_z(y), z = 0..count-1, that params.bias gives every input of a combination
 // for the sample y of input `source` (input 0: the pixel that combines, whose frame y is placed in), into
 // `weights`. The reuse stages compute the same function for z = source only; tests call this to check

@@ -15,22 +15,6 @@ namespace candela {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using DU = hn::RebindToUnsigned<D>;
-using VU = hn::Vec<DU>;
-
-// oct_decode.
-V3 oct_decode(D d, VU e) {
-  const DI di;
-  const V scale = hn::Set(d, 2.0f / 65535.0f), one = hn::Set(d, 1.0f), zero = hn::Zero(d);
-  auto coordinate = [&](VU bits) { return hn::Sub(hn::Mul(hn::ConvertTo(d, hn::BitCast(di, bits)), scale), one); };
-  const V x = coordinate(hn::And(e, hn::Set(DU(), 0xffffu))), y = coordinate(hn::ShiftRight<16>(e));
-  const V z = hn::Sub(hn::Sub(one, hn::Abs(x)), hn::Abs(y));
-  const V t = max_of(hn::Neg(z), zero);
-  const V3 n{hn::Add(x, hn::IfThenElse(hn::Ge(x, zero), hn::Neg(t), t)),
-             hn::Add(y, hn::IfThenElse(hn::Ge(y, zero), hn::Neg(t), t)), z};
-  return normalize(d, n);
-}
-
 // PackedSurface::bsdf's from_unorm8 of the byte at `shift`.
 template <int kShift>
 V unorm8(D d, VU packed) {

@@ -1,5 +1,5 @@
-// ReSTIR's SIMD lanes (restir/target_lanes.h, receiver_lanes.h, reuse_targets.h) against the scalar reference
-// (di_contribution, Bsdf::eval, Bsdf::pdf): the kernel repeats the scalar operations in the same order
+// ReSTIR's SIMD lanes (restir/target_lanes.h, receiver_lanes.h, reuse_targets.h, neighbour_lanes.h) against the scalar
+// reference (di_contribution, Bsdf::eval, Bsdf::pdf): the kernel repeats the scalar operations in the same order
 // without fused multiply-adds, so the bound is exact equality (0 ulp), for p_hat and the BSDF's area
 // density alike (where p_hat > 0, the only place it is read); a kernel that fused a multiply-add or reordered a sum
 // fails here.
@@ -15,6 +15,7 @@
 #include "engine/simd_targets.h"
 #include "restir/di_candidates.h"
 #include "restir/gi.h"
+#include "restir/neighbour_lanes.h"
 #include "restir/receiver_lanes.h"
 #include "samplers/simple_samplers.h"
 #include "tests/render_helpers.h"
@@ -274,6 +275,59 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
               compared, lit, contributing);
   EXPECT_GT(lit, 100 * kLaneSlots / 4) << "too few receivers facing the eye to test the wo terms";
   EXPECT_GT(contributing, 100 * kLaneSlots / 8) << "too few lit light points to test the contributions";
+}
+
+// Which neighbours are similar, in lanes (similar_neighbour_lanes) against similar_surfaces, on random pixels
+// with up to 31 neighbours each: depths within and beyond the tolerance (and exactly at it), no surface, and
+// shading normals tilted to around the cosine tolerance (the quantised normals put many pairs within a few
+// ulps of it). The bound is the same answer for every pair.
+TEST(TargetLanes, NeighbourSimilarityGivesTheScalarAnswers) {
+  Rng rng(4242, 7);
+  DiReuseParams params;
+  auto lanes = std::make_unique<NeighbourLanes>();
+  std::vector<PackedSurface> pixels(kLaneSlots), neighbours(size_t(kMaxNeighbours) * kLaneSlots);
+  int pairs = 0, similar = 0, depth_edges = 0;
+  std::string targets;
+  for (int batch = 0; batch < 40; ++batch) {
+    const int count = 1 + batch % kMaxNeighbours, slots = batch % 3 == 0 ? kLaneSlots - 5 : kLaneSlots;
+    for (int s = 0; s < kLaneSlots; ++s) {
+      PackedSurface& a = pixels[size_t(s)];
+      const vec3 n = random_unit(rng);
+      a.depth = 0.5f + 4.0f * rng.next_float();
+      a.shading_normal = oct_encode(n);
+      lanes->set(s, a);
+      for (int k = 0; k < count; ++k) {
+        PackedSurface& b = neighbours[size_t(k) * kLaneSlots + size_t(s)];
+        const float u = rng.next_float();
+        b.depth = u < 0.1f    ? kInfinity
+                  : u < 0.2f  ? a.depth + params.depth_tolerance * a.depth
+                  : u < 0.25f ? a.depth - params.depth_tolerance * a.depth
+                              : a.depth * (0.8f + 0.4f * rng.next_float());
+        depth_edges += u >= 0.1f && u < 0.25f;
+        // A tilt whose cosine is spread around the tolerance's (0.9: about 0.45 rad).
+        b.shading_normal = oct_encode(glm::normalize(n + random_unit(rng) * (0.3f + 0.4f * rng.next_float())));
+        lanes->set_neighbour(k, s, b);
+      }
+    }
+    for_each_simd_target([&](const char* target) {
+      if (batch == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
+      similar_neighbour_lanes(*lanes, count, slots, params.depth_tolerance, params.normal_tolerance);
+      for (int s = 0; s < slots; ++s) {
+        const PackedSurface& a = pixels[size_t(s)];
+        for (int k = 0; k < count; ++k) {
+          const bool scalar =
+              similar_surfaces(a, a.shading_n(), neighbours[size_t(k) * kLaneSlots + size_t(s)], params);
+          ASSERT_EQ(lanes->similar[k][s] != 0, scalar)
+              << target << ", batch " << batch << " slot " << s << " neighbour " << k;
+          ++pairs, similar += scalar;
+        }
+      }
+    });
+  }
+  std::printf("  %d pairs compared (%d similar, %d neighbours at the depth tolerance) on %s\n", pairs, similar,
+              depth_edges, targets.c_str());
+  EXPECT_GT(similar, pairs / 5) << "too few similar pairs to test the normal's cosine";
+  EXPECT_LT(similar, pairs * 4 / 5) << "too few pairs rejected";
 }
 
 // The whole chain on rendered frames: the reservoirs after 3 frames of candidates and reuse are the same
