@@ -219,6 +219,11 @@ void append_di_candidate_rows(std::vector<Setting>& rows) {
       "BSDF-sampled candidates per pixel (M_b; one ray each)", kRestirMethods));
   rows.back().widget_max = 8;
   rows.push_back(number_row(
+      "di_bsdf_probability", g, SettingType::Float, 0, 1, [](auto& s) -> auto& { return s.di.bsdf_probability; },
+      "Probability with which each BSDF candidate is drawn and its ray traced; the MIS weights count it as that "
+      "fraction of a candidate (unbiased)",
+      kRestirMethods));
+  rows.push_back(number_row(
       "di_light_tiles", g, SettingType::Int, 0, 4096, [](auto& s) -> auto& { return s.di.light_tiles; },
       "Draw light candidates from presampled light tiles: with the power and uniform light samplers "
       "this many per frame, shared by 16x16-pixel blocks; with tree and exhaustive each block draws "

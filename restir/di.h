@@ -39,6 +39,13 @@ struct DiParams {
   // equal time on manylights, city and occluded_room (docs/restir.md, "Spatial neighbours and light candidates")
   int light_candidates = 4;
   int bsdf_candidates = 1;  // M_b: candidates from BSDF sampling that hit an emitter (cost: one ray each)
+  // Each BSDF candidate is drawn (and its ray traced) with this probability, and counts as this fraction of a
+  // candidate in every candidate's MIS weight (see effective_bsdf_candidates); below 1 it pays on manylights and
+  // occluded_room, but not on city, whose sky only BSDF candidates reach (docs/restir.md, "BSDF candidates at
+  // equal time").
+  float bsdf_probability = 1.0f;
+  // M_b as the MIS weights and the reservoir's confidence count it: the expected number of BSDF candidates.
+  float effective_bsdf_candidates() const { return float(bsdf_candidates) * bsdf_probability; }
   // Trace a shadow ray to the chosen candidate and drop it if occluded (1 ray per pixel).
   bool candidate_visibility = false;
   // Evaluate light candidates in SIMD lanes (target_lanes.h); false: the scalar reference, which gives the

@@ -199,6 +199,9 @@ inline void draw_bsdf_candidates(const GBuffer& g, const DiParams& params, int s
     vec2 ub(b.rng.next_float(), b.rng.next_float());
     float lobe = b.rng.next_float();
     c.u = b.rng.next_float();
+    // Drawn with probability params.bsdf_probability (the coin only below 1, so that the default keeps its
+    // numbers): otherwise the candidate stays empty (pdf 0: no ray).
+    if (params.bsdf_probability < 1.0f && !(b.rng.next_float() < params.bsdf_probability)) continue;
     if (lanes) {
       // The exact receiver's shading normal, alpha and lobe probability and wo (the same as the packed
       // receiver's: both come from the G-buffer's position) from the lanes.
@@ -244,6 +247,9 @@ void locate_bsdf_hits(const SceneView& view, const DiParams& params, int slots, 
 // Part 5 (per pixel): the light candidates resampled with their evaluated targets, then the BSDF
 // candidates with their hits, combined by the balance heuristic in area measure: each candidate x gets
 // w = p_hat(x) / (M_l p_light(x) + M_b p_bsdf(x)) (Talbot et al. 2005; Bitterli et al. 2020, sec. 3).
+// With params.bsdf_probability q < 1, a BSDF candidate is present with probability q: its slot samples x
+// with the defective density q p_bsdf(x), so M_b counts q M_b (the balance heuristic over the slots' densities
+// stays a partition of unity: unbiased), and so does the reservoir's confidence M.
 // The light candidates' stream comes from `lanes` (resample_light_candidates_lanes, or null) unless the
 // pixel drew a punctual light, whose target the lanes do not have. Light no light technique can sample
 // (the environment, emitters below the light list's threshold) reaches the pixel only through the BSDF
@@ -257,7 +263,7 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
   unsampled = vec3(0.0f);
   DiCandidateBatch::Slot& b = batch.slot[slot];
   if (!b.hit) return 0;
-  const float M_l = float(params.light_candidates), M_b = float(params.bsdf_candidates);
+  const float M_l = float(params.light_candidates), M_b = params.effective_bsdf_candidates();
   if (lanes && !batch.drew_punctual(view.lights, params.light_candidates, slot)) {
     r.w_sum = lanes->w_sum[slot];
     if (const int k = int(lanes->chosen[slot]); k >= 0) r.y = batch.candidate(view.lights, k, slot);
@@ -351,7 +357,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       if (params.simd)
         resample_light_candidates_lanes(batch.planes.data(), batch.p_light.data(), batch.u.data(),
                                         params.light_candidates, float(params.light_candidates),
-                                        float(params.bsdf_candidates), slots, streams);
+                                        params.effective_bsdf_candidates(), slots, streams);
       for (int s = 0; s < slots; ++s)
         traced += resample_candidates(view, sampler, g, domain, params, s, params.simd ? &streams : nullptr, batch,
                                       out[row + s], unsampled[row + s]);

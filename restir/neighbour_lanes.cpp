@@ -25,8 +25,7 @@ void SimilarNeighbourLanes(NeighbourLanes& l, int count, int slots, float depth_
       // similar_surfaces: a surface, close in depth (not more than the tolerance apart, NaN passing as in the scalar
       // test), then the normals' cosine.
       const V other = hn::Load(d, l.neighbour_depth[k] + s);
-      const M close =
-          hn::AndNot(hn::Gt(hn::Abs(hn::Sub(depth, other)), max_difference), hn::Lt(other, no_surface));
+      const M close = hn::AndNot(hn::Gt(hn::Abs(hn::Sub(depth, other)), max_difference), hn::Lt(other, no_surface));
       const M facing = hn::Ge(dot(n, oct_decode(d, hn::Load(du, l.neighbour_normal[k] + s))), normal_tol);
       hn::Store(hn::VecFromMask(du, hn::RebindMask(du, hn::And(close, facing))), du, l.similar[k] + s);
     }

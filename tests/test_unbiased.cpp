@@ -46,14 +46,13 @@ testing::Runs path_traced_runs(const Scene& scene, int w, int h, int depth, int 
 // ReSTIR DI with temporal and spatial reuse on still manylights (256 lights), 48x27, 192 runs of 6
 // frames, against 64 runs of 64 direct-light paths per pixel (path tracer, max depth 1). Unbiased:
 // basic and pairwise, without visibility anywhere and with visibility-tested candidates plus visibility in
-// the weights. Known biased, so the harness must reject them here: visibility-tested candidates with
-// weights that ignore visibility, for basic (the broken weight) and for none (1/M), and the default, which
-// drops the samples shading found occluded from the history (DiReuseParams::drop_occluded: the reservoirs
-// reused next are then visibility-tested, as with visible candidates). Measured (2026-12-01, drop occluded
-// 2026-12-02): the unbiased four within 0.12% (detecting 0.8-0.9%), the biased three 1.3-1.5% dark at 8-9.5
-// standard errors (drop occluded -1.48%, z -9.5).
-// Plain "none" is printed, not judged: where every neighbour's target has the same support, 1/M weights
-// sum to one too (measured -0.08%).
+// the weights, and pairwise with BSDF candidates drawn at probability 0.3 (counted as 0.3 of a candidate). Known
+// biased, so the harness must reject them here: visibility-tested candidates with weights that ignore visibility, for
+// basic (the broken weight) and for none (1/M), and the default, which drops the samples shading found occluded from
+// the history (DiReuseParams::drop_occluded: the reservoirs reused next are then visibility-tested, as with visible
+// candidates). Measured (2026-12-01, drop occluded 2026-12-02): the unbiased four within 0.12% (detecting 0.8-0.9%),
+// the biased three 1.3-1.5% dark at 8-9.5 standard errors (drop occluded -1.48%, z -9.5). Plain "none" is printed, not
+// judged: where every neighbour's target has the same support, 1/M weights sum to one too (measured -0.08%).
 TEST(Unbiased, RestirDi) {
   const Scene scene = make_manylights_scene(256, 7);
   const int w = 48, h = 27, runs = 192, frames = 6;
@@ -64,20 +63,24 @@ TEST(Unbiased, RestirDi) {
     const char* bias;
     bool visibility, candidate_visibility, drop_occluded;
     Expect expect;
+    double bsdf_probability = 1.0;
   };
-  for (Mode mode : {Mode{"basic", "basic", false, false, false, Expect::Unbiased},
-                    Mode{"pairwise", "pairwise", false, false, false, Expect::Unbiased},
-                    Mode{"basic+visibility", "basic", true, true, false, Expect::Unbiased},
-                    Mode{"pairwise+visibility", "pairwise", true, true, false, Expect::Unbiased},
-                    Mode{"basic, visible candidates", "basic", false, true, false, Expect::Biased},
-                    Mode{"none, visible candidates", "none", false, true, false, Expect::Biased},
-                    Mode{"pairwise, drop occluded (the default)", "pairwise", false, false, true, Expect::Biased},
-                    Mode{"none", "none", false, false, false, Expect::Printed}}) {
+  for (Mode mode :
+       {Mode{"basic", "basic", false, false, false, Expect::Unbiased},
+        Mode{"pairwise", "pairwise", false, false, false, Expect::Unbiased},
+        Mode{"basic+visibility", "basic", true, true, false, Expect::Unbiased},
+        Mode{"pairwise+visibility", "pairwise", true, true, false, Expect::Unbiased},
+        Mode{"pairwise, BSDF candidates at probability 0.3", "pairwise", false, false, false, Expect::Unbiased, 0.3},
+        Mode{"basic, visible candidates", "basic", false, true, false, Expect::Biased},
+        Mode{"none, visible candidates", "none", false, true, false, Expect::Biased},
+        Mode{"pairwise, drop occluded (the default)", "pairwise", false, false, true, Expect::Biased},
+        Mode{"none", "none", false, false, false, Expect::Printed}}) {
     // di_radius 6: neighbours mostly inside the small image.
     const RenderSettings s = testing::settings({{"di_bias", mode.bias},
                                                 {"di_mis_visibility", mode.visibility},
                                                 {"di_visibility", mode.candidate_visibility},
                                                 {"di_drop_occluded", mode.drop_occluded},
+                                                {"di_bsdf_probability", mode.bsdf_probability},
                                                 {"di_radius", 6}},
                                                run_settings(w, h, Method::RestirDi, 0));
     const testing::Verdict v = testing::compare_runs(restir_runs(scene, s, runs, frames, 1000), reference);
