@@ -24,12 +24,6 @@ struct BsdfLanes {
   alignas(64) int32_t albedo_row[kLaneSlots];
   alignas(64) float albedo_weight[kLaneSlots], g1_o[kLaneSlots], p_specular[kLaneSlots];
   void set(int slot, const BsdfWoTerms& t);
-  // The direction Bsdf::sample draws for slot s's BSDF seen along wo (sample_bsdf_direction with the slot's
-  // normal, alpha and lobe probability); false if there is none. Its value and density: evaluate_bsdf_lanes.
-  bool sample_direction(int slot, const vec3& wo, vec2 u, float u_lobe, vec3& wi) const {
-    return sample_bsdf_direction(Frame::from_normal(vec3(nx[slot], ny[slot], nz[slot])), alpha[slot], wo, u, u_lobe,
-                                 p_specular[slot], wi);
-  }
 };
 
 // What the Bsdf constructor reads (shading normal and material), one plane per component.
@@ -53,6 +47,12 @@ struct DirectionLanes {
   alignas(64) float f[3][kLaneSlots], pdf[kLaneSlots];
 };
 
+// The uniforms of one BSDF sample per surface of a batch: the direction's two (u[0] = u.x, u[1] = u.y) and the
+// lobe's.
+struct BsdfUniformLanes {
+  alignas(64) float u[2][kLaneSlots], lobe[kLaneSlots];
+};
+
 // The path vertices of a batch: their BSDFs' parameters and the direction wo each is seen from.
 struct BsdfVertexLanes {
   BsdfMaterialLanes material;
@@ -68,5 +68,13 @@ void build_bsdf_lanes(const BsdfVertexLanes& vertices, int slots, BsdfLanes& out
 // the planes (wox, woy, woz); inactive slots get 0. Cost per direction: ~60 flops and 4 table gathers, in lanes.
 void evaluate_bsdf_lanes(const BsdfLanes& bsdf, const float* wox, const float* woy, const float* woz, int slots,
                          bool times_cosine, DirectionLanes& directions);
+
+// Slots [0, slots) of `directions` that are active on entry: the direction Bsdf::sample draws for the slot's BSDF
+// of `bsdf` (its normal, alpha and lobe probability) seen along the planes (wox, woy, woz) with the slot's
+// uniforms (sample_bsdf_direction's arithmetic, sin_cos included: its bits); a slot stays active where one was
+// drawn and becomes inactive (direction 0) where none was. Its value and density: evaluate_bsdf_lanes. Cost per
+// direction: ~120 flops, two square roots per lobe and 5 divisions, in lanes (both lobes are computed).
+void sample_bsdf_lanes(const BsdfLanes& bsdf, const float* wox, const float* woy, const float* woz,
+                       const BsdfUniformLanes& uniforms, int slots, DirectionLanes& directions);
 
 }  // namespace candela

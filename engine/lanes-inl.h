@@ -1,8 +1,8 @@
 // Highway helpers shared by the SIMD kernels over pixels (engine/gbuffer_lanes.cpp, engine/bsdf_lanes-inl.h and
 // its users, restir/resample_lanes.cpp): vectors of 3-vectors and the scalar code's dot and cross products, normalise,
-// octahedral decoding and GGX albedo lookup, each repeating the scalar operations in the same order so that the kernels
-// keep the scalar code's bits. Included once per instruction set by each kernel's foreach_target.h pass, hence the
-// toggling include guard (Highway's "-inl.h" convention).
+// octahedral decoding, sin_cos and GGX albedo lookup, each repeating the scalar operations in the same order so that
+// the kernels keep the scalar code's bits. Included once per instruction set by each kernel's foreach_target.h pass,
+// hence the toggling include guard (Highway's "-inl.h" convention).
 #if defined(CANDELA_ENGINE_LANES_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef CANDELA_ENGINE_LANES_INL_H_
 #undef CANDELA_ENGINE_LANES_INL_H_
@@ -11,6 +11,7 @@
 #endif
 
 #include "engine/ggx_albedo.h"
+#include "engine/math.h"
 #include "hwy/highway.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -66,6 +67,28 @@ inline V3 oct_decode(D d, VU e) {
   const V3 n{hn::Add(x, hn::IfThenElse(hn::Ge(x, zero), hn::Neg(t), t)),
              hn::Add(y, hn::IfThenElse(hn::Ge(y, zero), hn::Neg(t), t)), z};
   return normalize(d, n);
+}
+
+// sin_cos (engine/math.h): the same reduction, polynomials and quadrant swaps, into s and c.
+inline void sin_cos(D d, V x, V& s, V& c) {
+  using namespace sin_cos_constants;
+  const DI di;
+  const VI q = hn::ConvertTo(di, hn::Floor(hn::Add(hn::Mul(x, hn::Set(d, kTwoOverPi)), hn::Set(d, 0.5f))));
+  const V qf = hn::ConvertTo(d, q);
+  const V r = hn::Sub(hn::Sub(hn::Sub(x, hn::Mul(qf, hn::Set(d, kPiOver2[0]))), hn::Mul(qf, hn::Set(d, kPiOver2[1]))),
+                      hn::Mul(qf, hn::Set(d, kPiOver2[2])));
+  const V z = hn::Mul(r, r);
+  auto poly = [&](const float* k) {
+    return hn::Add(hn::Mul(hn::Add(hn::Mul(hn::Set(d, k[0]), z), hn::Set(d, k[1])), z), hn::Set(d, k[2]));
+  };
+  const V sine = hn::Add(hn::Mul(hn::Mul(poly(kSin), z), r), r);
+  const V cosine = hn::Add(hn::Sub(hn::Mul(hn::Mul(poly(kCos), z), z), hn::Mul(hn::Set(d, 0.5f), z)), hn::Set(d, 1.0f));
+  auto bit = [&](VI v, int b) { return hn::RebindMask(d, hn::Ne(hn::And(v, hn::Set(di, b)), hn::Zero(di))); };
+  const M swap = bit(q, 1);
+  s = hn::IfThenElse(swap, cosine, sine);
+  c = hn::IfThenElse(swap, sine, cosine);
+  s = hn::IfThenElse(bit(q, 2), hn::Neg(s), s);
+  c = hn::IfThenElse(bit(hn::Add(q, hn::Set(di, 1)), 2), hn::Neg(c), c);
 }
 
 // GgxAlbedoRow::at: the (a, b) albedo pair at cos_theta, bilinear in sqrt(mu) and roughness, from the

@@ -28,7 +28,9 @@ vec3 sample_cosine_hemisphere(vec2 u) {
       r = o.y;
       theta = kPi / 2.0f - (kPi / 4.0f) * (o.x / o.y);
     }
-    d = r * vec2(std::cos(theta), std::sin(theta));
+    float sine, cosine;
+    sin_cos(theta, sine, cosine);
+    d = r * vec2(cosine, sine);
   }
   float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
   return vec3(d.x, d.y, z);
@@ -41,8 +43,9 @@ vec3 ggx_sample_visible_normal(const vec3& wo, float alpha, vec2 u) {
   vec3 t1 = len2 > 0.0f ? vec3(-vh.y, vh.x, 0.0f) / std::sqrt(len2) : vec3(1.0f, 0.0f, 0.0f);
   vec3 t2 = glm::cross(vh, t1);
   float r = std::sqrt(u.x);
-  float phi = 2.0f * kPi * u.y;
-  float p1 = r * std::cos(phi), p2 = r * std::sin(phi);
+  float phi = 2.0f * kPi * u.y, sine, cosine;
+  sin_cos(phi, sine, cosine);
+  float p1 = r * cosine, p2 = r * sine;
   float s = 0.5f * (1.0f + vh.z);
   p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * p2;
   vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;

@@ -22,15 +22,17 @@ struct PathVertexBatch {
   LightSample light_sample[kLaneSlots];
   BsdfVertexLanes vertices;
   BsdfLanes bsdf;
+  BsdfUniformLanes uniforms;   // the BSDF samples' uniforms
   DirectionLanes light, next;  // the light samples' directions, the BSDF samples' directions
 };
 
 // path_bounce for the paths group[0, count) whose rays reached hits[group[j]], in its steps, each over the
 // group: arrive_at_vertex (the surface surfaces[j] where `instances` says the lanes computed it), the BSDFs'
-// terms in lanes, the light samples and BSDF directions (each path's random numbers in path_bounce's order),
-// their BSDF values and densities in lanes, then the light samples' weights (shadow rays left pending) and
-// continue_path. Each path gets path_bounce's bits. Cost per path: path_bounce's, with the BSDF's constructor,
-// wo terms, two evaluations and densities in lanes instead of scalar code.
+// terms in lanes, the light samples and the BSDF directions' uniforms (each path's random numbers in
+// path_bounce's order), the BSDF directions in lanes, their BSDF values and densities in lanes, then the light samples'
+// weights (shadow rays left pending) and continue_path. Each path gets path_bounce's bits. Cost per path:
+// path_bounce's, with the BSDF's constructor, wo terms, direction sampling, two evaluations and densities in lanes
+// instead of scalar code.
 template <LightSampler S, class Stream>
 void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParams& params, const uint32_t* group,
                   int count, const std::vector<Hit>& hits, const SurfacePoint* surfaces,
@@ -62,12 +64,10 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
       b.light.x[j] = wi.x, b.light.y[j] = wi.y, b.light.z[j] = wi.z, b.light.active[j] = 1.0f;
     }
     const vec2 u = rng.next_2d();
-    const float lobe = rng.next_float();
-    const vec3 wo(b.vertices.wox[j], b.vertices.woy[j], b.vertices.woz[j]);
-    vec3 wi;
-    if (b.bsdf.sample_direction(j, wo, u, lobe, wi))
-      b.next.x[j] = wi.x, b.next.y[j] = wi.y, b.next.z[j] = wi.z, b.next.active[j] = 1.0f;
+    b.uniforms.u[0][j] = u.x, b.uniforms.u[1][j] = u.y, b.uniforms.lobe[j] = rng.next_float();
+    b.next.active[j] = 1.0f;
   }
+  sample_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, b.uniforms, count, b.next);
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, true, b.light);
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, false, b.next);
   // Finish: the light samples' weights and shadow rays, then the paths that go on.

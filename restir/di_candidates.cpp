@@ -13,6 +13,7 @@ void DiCandidateBatch::resize(int light_candidates, int bsdf_candidates) {
   chosen.resize(k * kLaneSlots);
   bsdf.resize(size_t(std::max(bsdf_candidates, 0)) * kLaneSlots);
   directions.resize(size_t(std::max(bsdf_candidates, 0)));
+  bsdf_uniforms.resize(size_t(std::max(bsdf_candidates, 0)));
   bsdf_hits.resize(size_t(std::max(bsdf_candidates, 0)));
 }
 

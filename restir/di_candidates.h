@@ -56,9 +56,10 @@ struct DiCandidateBatch {
     int64_t light = -1;     // the light the hit landed on (-1: none, or no hit)
     DiSample light_sample;  // where light >= 0: the sample at the hit's point
   };
-  std::vector<BsdfCandidate> bsdf;         // [k * kLaneSlots + slot]
-  std::vector<CandidateLanes> bsdf_hits;   // per BSDF candidate, its hits' points on lights (params.simd)
-  std::vector<DirectionLanes> directions;  // per BSDF candidate, its directions' value and density (params.simd)
+  std::vector<BsdfCandidate> bsdf;              // [k * kLaneSlots + slot]
+  std::vector<CandidateLanes> bsdf_hits;        // per BSDF candidate, its hits' points on lights (params.simd)
+  std::vector<DirectionLanes> directions;       // per BSDF candidate, its directions' value and density (params.simd)
+  std::vector<BsdfUniformLanes> bsdf_uniforms;  // per BSDF candidate, its directions' uniforms (params.simd)
   // The light choices while they are drawn, at [slot * M_l + k]: the uniforms of the choice, the choices.
   std::vector<vec2> light_u;
   std::vector<SampledLight> chosen;
@@ -186,9 +187,9 @@ inline float di_bsdf_area_pdf(const DiReceiver& receiver, const DiContribution& 
 void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBatch& batch);
 
 // Part 3 (per pixel): M_b BSDF directions sampled at the exact receiver (their rays are traced together
-// next, in packets). With params.simd only the directions: their values and densities come from the lanes
-// (part 3b).
-inline void draw_bsdf_candidates(const GBuffer& g, const DiParams& params, int slot, DiCandidateBatch& batch) {
+// next, in packets). With params.simd only their uniforms: the directions, values and densities come from the
+// lanes (part 3b).
+inline void draw_bsdf_candidates(const DiParams& params, int slot, DiCandidateBatch& batch) {
   DiCandidateBatch::Slot& b = batch.slot[slot];
   for (int k = 0; k < params.bsdf_candidates; ++k) {
     DiCandidateBatch::BsdfCandidate& c = batch.bsdf[size_t(k) * kLaneSlots + size_t(slot)];
@@ -202,16 +203,10 @@ inline void draw_bsdf_candidates(const GBuffer& g, const DiParams& params, int s
     // Drawn with probability params.bsdf_probability (the coin only below 1, so that the default keeps its
     // numbers): otherwise the candidate stays empty (pdf 0: no ray).
     if (params.bsdf_probability < 1.0f && !(b.rng.next_float() < params.bsdf_probability)) continue;
-    if (lanes) {
-      // The exact receiver's shading normal, alpha and lobe probability and wo (the same as the packed
-      // receiver's: both come from the G-buffer's position) from the lanes.
-      const BsdfLanes& t = batch.lanes.exact;
-      const vec3 wo(batch.lanes.wox[slot], batch.lanes.woy[slot], batch.lanes.woz[slot]);
-      if (t.sample_direction(slot, wo, ub, lobe, c.sample.wi) &&
-          glm::dot(c.sample.wi, g.geometric_normal[b.pixel]) > 0.0f) {
-        lanes->x[slot] = c.sample.wi.x, lanes->y[slot] = c.sample.wi.y, lanes->z[slot] = c.sample.wi.z;
-        lanes->active[slot] = 1.0f;
-      }
+    if (lanes) {  // the direction is drawn in lanes (part 3b)
+      BsdfUniformLanes& uniforms = batch.bsdf_uniforms[size_t(k)];
+      uniforms.u[0][slot] = ub.x, uniforms.u[1][slot] = ub.y, uniforms.lobe[slot] = lobe;
+      lanes->active[slot] = 1.0f;
       continue;
     }
     if (!b.receiver.bsdf.sample(b.receiver.wo, ub, lobe, c.sample) ||
@@ -220,15 +215,24 @@ inline void draw_bsdf_candidates(const GBuffer& g, const DiParams& params, int s
   }
 }
 
-// Part 3b (params.simd): the BSDF candidates' values and densities (Bsdf::eval and Bsdf::pdf) in lanes; a
-// direction of density 0 gets no ray, as Bsdf::sample refuses it.
-inline void evaluate_bsdf_candidates(const DiParams& params, int slots, DiCandidateBatch& batch) {
+// Part 3b (params.simd): the BSDF candidates' directions at the exact receivers (their shading normal, alpha,
+// lobe probability and wo: the same as the packed receivers', both seen from the G-buffer's position), kept
+// where they leave the geometric surface, then their values and densities (Bsdf::eval and Bsdf::pdf), all in
+// lanes; a direction of density 0 gets no ray, as Bsdf::sample refuses it.
+inline void evaluate_bsdf_candidates(const GBuffer& g, const DiParams& params, int slots, DiCandidateBatch& batch) {
+  const ReceiverLanes& r = batch.lanes;
   for (int k = 0; k < params.bsdf_candidates; ++k) {
     DirectionLanes& lanes = batch.directions[size_t(k)];
-    evaluate_bsdf_lanes(batch.lanes.exact, batch.lanes.wox, batch.lanes.woy, batch.lanes.woz, slots, false, lanes);
+    sample_bsdf_lanes(r.exact, r.wox, r.woy, r.woz, batch.bsdf_uniforms[size_t(k)], slots, lanes);
+    for (int s = 0; s < slots; ++s)
+      if (lanes.active[s] != 0.0f &&
+          !(glm::dot(vec3(lanes.x[s], lanes.y[s], lanes.z[s]), g.geometric_normal[batch.slot[s].pixel]) > 0.0f))
+        lanes.active[s] = 0.0f;
+    evaluate_bsdf_lanes(r.exact, r.wox, r.woy, r.woz, slots, false, lanes);
     for (int s = 0; s < slots; ++s) {
       if (lanes.active[s] == 0.0f) continue;
       BsdfSample& sample = batch.bsdf[size_t(k) * kLaneSlots + size_t(s)].sample;
+      sample.wi = vec3(lanes.x[s], lanes.y[s], lanes.z[s]);
       sample.f = vec3(lanes.f[0][s], lanes.f[1][s], lanes.f[2][s]);
       sample.pdf = lanes.pdf[s] > 0.0f ? lanes.pdf[s] : 0.0f;
     }
@@ -349,8 +353,8 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       } else {
         evaluate_candidates_scalar(params, slots, batch);
       }
-      for (int s = 0; s < slots; ++s) draw_bsdf_candidates(g, params, s, batch);
-      if (params.simd) evaluate_bsdf_candidates(params, slots, batch);
+      for (int s = 0; s < slots; ++s) draw_bsdf_candidates(params, s, batch);
+      if (params.simd) evaluate_bsdf_candidates(g, params, slots, batch);
       traced += trace_bsdf_candidates(view, g, params, slots, batch);
       locate_bsdf_hits(view, params, slots, batch);
       thread_local StreamLanes streams;

@@ -10,6 +10,7 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
   struct Row {
     ExactSurfaceLanes surfaces;
     ReceiverLanes receivers;
+    BsdfUniformLanes uniforms;
     DirectionLanes directions;
     Rng rng[kLaneSlots];
     vec2 tag[kLaneSlots];
@@ -22,8 +23,8 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
   for (int s = 0; s < slots; ++s)
     if (g.hit(first + size_t(s))) row.surfaces.set(s, g, first + size_t(s));
   build_exact_receivers(row.surfaces, domain.eye, slots, row.receivers);
-  // Per hit pixel: the first direction, drawn from its BSDF (the random numbers in the order the scalar code
-  // drew them: the direction's two, the tag's two, the lobe's and the reservoir's uniform).
+  // Per hit pixel: the uniforms of its first direction, drawn from its BSDF (the random numbers in the order the
+  // scalar code drew them: the direction's two, the tag's two, the lobe's and the reservoir's uniform).
   const BsdfLanes& bsdf = row.receivers.exact;
   for (int s = 0; s < slots; ++s) {
     const size_t i = first + size_t(s);
@@ -40,13 +41,12 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
     vec2 ub(rng.next_float(), rng.next_float()), tag(rng.next_float(), rng.next_float());
     float lobe = rng.next_float(), u = rng.next_float();
     row.tag[s] = tag, row.u[s] = u;
-    const vec3 wo(row.receivers.wox[s], row.receivers.woy[s], row.receivers.woz[s]);
-    vec3 wi;
-    if (bsdf.sample_direction(s, wo, ub, lobe, wi))
-      row.directions.x[s] = wi.x, row.directions.y[s] = wi.y, row.directions.z[s] = wi.z, row.directions.active[s] = 1;
+    row.uniforms.u[0][s] = ub.x, row.uniforms.u[1][s] = ub.y, row.uniforms.lobe[s] = lobe;
+    row.directions.active[s] = 1.0f;
   }
-  // The directions' densities (Bsdf::sample's), in lanes; then the paths of the directions it accepts that
-  // leave the geometric surface.
+  // The directions and their densities (Bsdf::sample's), in lanes; then the paths of the directions it accepts
+  // that leave the geometric surface.
+  sample_bsdf_lanes(bsdf, row.receivers.wox, row.receivers.woy, row.receivers.woz, row.uniforms, slots, row.directions);
   evaluate_bsdf_lanes(bsdf, row.receivers.wox, row.receivers.woy, row.receivers.woz, slots, false, row.directions);
   for (int s = 0; s < slots; ++s) {
     const size_t i = first + size_t(s);

@@ -1,4 +1,5 @@
-// ReSTIR's SIMD lanes (restir/target_lanes.h, receiver_lanes.h, reuse_targets.h, neighbour_lanes.h) against the scalar
+// ReSTIR's SIMD lanes (restir/target_lanes.h, receiver_lanes.h, reuse_targets.h, neighbour_lanes.h, and the BSDF
+// directions of engine/bsdf_lanes.h) against the scalar
 // reference (di_contribution, Bsdf::eval, Bsdf::pdf): the kernel repeats the scalar operations in the same order
 // without fused multiply-adds, so the bound is exact equality (0 ulp), for p_hat and the BSDF's area
 // density alike (where p_hat > 0, the only place it is read); a kernel that fused a multiply-add or reordered a sum
@@ -275,6 +276,64 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
               compared, lit, contributing);
   EXPECT_GT(lit, 100 * kLaneSlots / 4) << "too few receivers facing the eye to test the wo terms";
   EXPECT_GT(contributing, 100 * kLaneSlots / 8) << "too few lit light points to test the contributions";
+}
+
+// BSDF directions drawn in lanes (sample_bsdf_lanes) against sample_bsdf_direction, on random normals, wo on
+// either side, GGX alphas from 0.03^2 to 1, lobe probabilities from 0 to 1 and uniforms including 0 and the square's
+// centre (where the concentric map divides 0 by 0): whether a direction is drawn, and its bits (bound: 0 ulp), on
+// every instruction set.
+TEST(TargetLanes, BsdfDirectionsGiveTheScalarBits) {
+  Rng rng(99, 5);
+  auto bsdf = std::make_unique<BsdfLanes>();
+  auto uniforms = std::make_unique<BsdfUniformLanes>();
+  auto lanes = std::make_unique<DirectionLanes>();
+  alignas(64) float wox[kLaneSlots], woy[kLaneSlots], woz[kLaneSlots];
+  auto uniform = [&] {
+    const float u = rng.next_float();
+    return u < 0.05f ? 0.0f : u < 0.1f ? 0.5f : rng.next_float();
+  };
+  int compared = 0, drawn = 0, specular = 0;
+  std::string targets;
+  for (int batch = 0; batch < 200; ++batch) {
+    struct Expected {
+      bool drawn;
+      vec3 wi;
+    } expected[kLaneSlots];
+    for (int s = 0; s < kLaneSlots; ++s) {
+      const vec3 n = random_unit(rng), wo = random_unit(rng);
+      const float roughness = std::max(0.03f, rng.next_float());
+      bsdf->nx[s] = n.x, bsdf->ny[s] = n.y, bsdf->nz[s] = n.z;
+      bsdf->alpha[s] = roughness * roughness;
+      bsdf->p_specular[s] = rng.next_float() < 0.2f ? 1.0f : rng.next_float();
+      wox[s] = wo.x, woy[s] = wo.y, woz[s] = wo.z;
+      uniforms->u[0][s] = uniform(), uniforms->u[1][s] = uniform(), uniforms->lobe[s] = rng.next_float();
+      expected[s].drawn =
+          sample_bsdf_direction(Frame::from_normal(n), bsdf->alpha[s], wo, vec2(uniforms->u[0][s], uniforms->u[1][s]),
+                                uniforms->lobe[s], bsdf->p_specular[s], expected[s].wi);
+      drawn += expected[s].drawn;
+      specular += expected[s].drawn && uniforms->lobe[s] < bsdf->p_specular[s];
+    }
+    for_each_simd_target([&](const char* target) {
+      if (batch == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
+      for (int s = 0; s < kLaneSlots; ++s) lanes->active[s] = 1.0f;
+      sample_bsdf_lanes(*bsdf, wox, woy, woz, *uniforms, kLaneSlots, *lanes);
+      for (int s = 0; s < kLaneSlots; ++s) {
+        ASSERT_EQ(lanes->active[s] > 0.0f, expected[s].drawn) << target << ", batch " << batch << " slot " << s;
+        if (!expected[s].drawn) continue;
+        ++compared;
+        EXPECT_TRUE(same_bits(lanes->x[s], expected[s].wi.x) && same_bits(lanes->y[s], expected[s].wi.y) &&
+                    same_bits(lanes->z[s], expected[s].wi.z))
+            << target << ", batch " << batch << " slot " << s << ": lanes (" << lanes->x[s] << ", " << lanes->y[s]
+            << ", " << lanes->z[s] << "), scalar (" << expected[s].wi.x << ", " << expected[s].wi.y << ", "
+            << expected[s].wi.z << ")";
+      }
+    });
+    if (::testing::Test::HasFailure()) break;
+  }
+  std::printf("  %d directions compared (%d drawn per target, %d of them specular) on %s\n", compared, drawn, specular,
+              targets.c_str());
+  EXPECT_GT(specular, drawn / 4) << "too few specular directions";
+  EXPECT_GT(drawn - specular, drawn / 4) << "too few diffuse directions";
 }
 
 // Which neighbours are similar, in lanes (similar_neighbour_lanes) against similar_surfaces, on random pixels
