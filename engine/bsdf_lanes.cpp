@@ -59,9 +59,6 @@ FrameLanes frame_from_normal(D d, const V3& n) {
           n};
 }
 
-// std::max(c, x) for a constant c: x86's max returns its second operand unless the first is greater.
-V max_with(V c, V x) { return hn::Max(x, c); }
-
 // ggx_sample_visible_normal (engine/microfacet.cpp, Heitz 2018) for local wo.
 V3 ggx_sample_visible_normal(D d, const V3& wo, V alpha, V u0, V u1) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
@@ -77,12 +74,12 @@ V3 ggx_sample_visible_normal(D d, const V3& wo, V alpha, V u0, V u1) {
   sin_cos(d, hn::Mul(hn::Set(d, 2.0f * kPi), u1), sine, cosine);
   const V p1 = hn::Mul(r, cosine);
   const V s = hn::Mul(hn::Set(d, 0.5f), hn::Add(one, vh.z));
-  const V p2 = hn::Add(hn::Mul(hn::Sub(one, s), hn::Sqrt(max_with(zero, hn::Sub(one, hn::Mul(p1, p1))))),
+  const V p2 = hn::Add(hn::Mul(hn::Sub(one, s), hn::Sqrt(max_of(zero, hn::Sub(one, hn::Mul(p1, p1))))),
                        hn::Mul(s, hn::Mul(r, sine)));
-  const V k = hn::Sqrt(max_with(zero, hn::Sub(hn::Sub(one, hn::Mul(p1, p1)), hn::Mul(p2, p2))));
+  const V k = hn::Sqrt(max_of(zero, hn::Sub(hn::Sub(one, hn::Mul(p1, p1)), hn::Mul(p2, p2))));
   auto axis = [&](V a, V b, V c) { return hn::Add(hn::Add(hn::Mul(p1, a), hn::Mul(p2, b)), hn::Mul(k, c)); };
   const V3 nh{axis(t1.x, t2.x, vh.x), axis(t1.y, t2.y, vh.y), axis(t1.z, t2.z, vh.z)};
-  return normalize(d, {hn::Mul(alpha, nh.x), hn::Mul(alpha, nh.y), max_with(hn::Set(d, 1e-6f), nh.z)});
+  return normalize(d, {hn::Mul(alpha, nh.x), hn::Mul(alpha, nh.y), max_of(hn::Set(d, 1e-6f), nh.z)});
 }
 
 // sample_cosine_hemisphere (engine/microfacet.cpp): the concentric map of the square to the disk, lifted to the
@@ -100,7 +97,7 @@ V3 sample_cosine_hemisphere(D d, V u0, V u1) {
   sin_cos(d, theta, sine, cosine);
   const V dx = hn::IfThenElseZero(off_centre, hn::Mul(r, cosine)),
           dy = hn::IfThenElseZero(off_centre, hn::Mul(r, sine));
-  return {dx, dy, hn::Sqrt(max_with(zero, hn::Sub(hn::Sub(one, hn::Mul(dx, dx)), hn::Mul(dy, dy))))};
+  return {dx, dy, hn::Sqrt(max_of(zero, hn::Sub(hn::Sub(one, hn::Mul(dx, dx)), hn::Mul(dy, dy))))};
 }
 
 void SampleBsdfLanes(const BsdfLanes& bsdf, const float* wox, const float* woy, const float* woz,

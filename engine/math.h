@@ -28,8 +28,8 @@ inline float max_component(const vec3& c) { return std::max(c.x, std::max(c.y, c
 // Nearest integer, halves rounded up. Inlines to a few instructions, where std::lround is a libm call
 // (it showed as 1.7% of a ReSTIR DI frame).
 inline int round_nearest(float v) { return int(std::floor(v + 0.5f)); }
-// sin x and cos x for |x| <= 8 (the angles of direction sampling), with an error of at most 2 ulp of 1 (~1.2e-7,
-// tests/test_bsdf.cpp): x reduced by the nearest multiple q of pi/2 (pi/2 in three parts, each product with q
+// sin x and cos x for |x| <= 8 (the angles of direction sampling), with an error of at most 2 ulp of 1 (2^-22,
+// ~2.4e-7; tests/test_bsdf.cpp): x reduced by the nearest multiple q of pi/2 (pi/2 in three parts, each product with q
 // exact), then Cephes' single-precision polynomials on [-pi/4, pi/4] (S. L. Moshier, sinf.c: coefficients and
 // the three-part constant), the quadrant q mod 4 swapping and negating the two. Written out, rather than
 // std::sin and std::cos, so that the SIMD kernels (engine/lanes-inl.h sin_cos) repeat the same operations and
