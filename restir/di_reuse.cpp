@@ -58,6 +58,12 @@ bool occluded_from(const SceneView& view, const DiReuseInput& z, const PlacedSam
   return view.tracer.occluded(di_shadow_ray(view.tracer, z.domain->surfaces[z.pixel], z.domain->lights, placed));
 }
 
+// A slot of a row (ReuseRow) whose targets evaluate_reuse_targets evaluated beforehand.
+struct SlotTargets {
+  const ReuseRow& row;
+  int slot;
+};
+
 // The inputs' target functions as the weights and the combination read them: p_z(y) for the sample y of
 // input `source`, from the values evaluate_reuse_targets found in lanes where the stage has them, else
 // evaluated here on the inputs' receivers, each built on first use (pairwise MIS needs a neighbour's
@@ -65,7 +71,7 @@ bool occluded_from(const SceneView& view, const DiReuseInput& z, const PlacedSam
 // constructing an array of 32 receivers per pixel cost more than using them.
 class InputTargets {
  public:
-  InputTargets(const DiReuseInput* inputs, int count, const LaneTargets* lanes) : inputs_(inputs), lanes_(lanes) {
+  InputTargets(const DiReuseInput* inputs, int count, const SlotTargets* lanes) : inputs_(inputs), lanes_(lanes) {
     thread_local std::vector<DiReceiver> storage(kMaxReuseInputs);
     receivers_ = storage.data();
     std::fill(built_, built_ + count, false);
@@ -75,19 +81,22 @@ class InputTargets {
     return receivers_[z];
   }
   float at(const SceneView& view, int z, int source, const PlacedSample& y) {
-    if (lanes_ && z == 0 && (lanes_->known_at >> source & 1u)) return lanes_->at_combiner[source];
-    if (lanes_ && source == 0 && (lanes_->known_of >> z & 1u)) return lanes_->of_combiner[z];
+    if (lanes_ && z == 0 && (lanes_->row.known_at[lanes_->slot] >> source & 1u))
+      return lanes_->row.at_combiner[source][lanes_->slot];
+    if (lanes_ && source == 0 && (lanes_->row.known_of[lanes_->slot] >> z & 1u))
+      return lanes_->row.of_combiner[z][lanes_->slot];
     return target_at(view, receiver(z), y);
   }
   // Whether the combining pixel's sample is visible from input z, where it was traced beforehand (-1: it
   // was not).
   int combiner_visible_from(int z) const {
-    return lanes_ && (lanes_->known_visible >> z & 1u) ? int(lanes_->visible >> z & 1u) : -1;
+    if (!lanes_ || !(lanes_->row.known_visible[lanes_->slot] >> z & 1u)) return -1;
+    return int(lanes_->row.visible[lanes_->slot] >> z & 1u);
   }
 
  private:
   const DiReuseInput* inputs_;
-  const LaneTargets* lanes_;
+  const SlotTargets* lanes_;
   DiReceiver* receivers_;
   bool built_[kMaxReuseInputs];
 };
@@ -210,7 +219,7 @@ float reconnection_jacobian(const LightPoint& sample, const vec3& here, const ve
 // result's sample is placed in input 0's frame. The canonical input's target at its own sample is the one
 // its reservoir stored; `lanes` (or null) holds targets evaluated beforehand.
 DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count, const DiReuseParams& params,
-                    const LaneTargets* lanes, Rng& rng, uint64_t& rays) {
+                    const SlotTargets* lanes, Rng& rng, uint64_t& rays) {
   DiReservoir out;
   InputTargets targets(inputs, count, lanes);
   const LightList* here_lights = &inputs[0].domain->lights;
@@ -240,34 +249,43 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
 // traced beforehand (a neighbour's own sample: the spatial pass's rays; the combining pixel's sample from a
 // neighbour: evaluate_reuse_targets's), where the weight's term is positive.
 bool targets_known(const ReuseRow& row, int s, bool visibility) {
-  const DiReuseInput* in = row.inputs[s];
-  const LaneTargets& t = row.targets[s];
+  const bool own_sampled = row.inputs[0][s].reservoir->W > 0.0f;
   for (int k = 1; k < row.count[s]; ++k) {
-    if (in[k].reservoir->W > 0.0f &&
-        (!(t.known_at >> k & 1u) || (visibility && in[k].M * in[k].reservoir->p_hat_y > 0.0f && in[k].own_visible < 0)))
+    const DiReuseInput& in = row.inputs[k][s];
+    if (in.reservoir->W > 0.0f &&
+        (!(row.known_at[s] >> k & 1u) || (visibility && in.M * in.reservoir->p_hat_y > 0.0f && in.own_visible < 0)))
       return false;
-    if (in[0].reservoir->W > 0.0f &&
-        (!(t.known_of >> k & 1u) || (visibility && in[k].M * t.of_combiner[k] > 0.0f && !(t.known_visible >> k & 1u))))
+    if (own_sampled && (!(row.known_of[s] >> k & 1u) ||
+                        (visibility && in.M * row.of_combiner[k][s] > 0.0f && !(row.known_visible[s] >> k & 1u))))
       return false;
   }
   return true;
 }
 
-// Slot s of a row into the combination lanes, with its inputs' uniforms drawn from `rng` in combine's order.
-void gather_combination(const ReuseRow& row, int s, Rng& rng, CombineLanes& lanes) {
-  const DiReuseInput* in = row.inputs[s];
-  const LaneTargets& t = row.targets[s];
-  lanes.count[s] = float(row.count[s]);
-  for (int k = 0; k < row.count[s]; ++k) {
-    lanes.u[k][s] = rng.next_float();
-    lanes.M[k][s] = in[k].M;
-    lanes.W[k][s] = in[k].reservoir->W;
-    lanes.own[k][s] = in[k].reservoir->p_hat_y;
-    lanes.at[k][s] = t.at_combiner[k];
-    lanes.of[k][s] = t.of_combiner[k];
-    lanes.own_visible[k][s] = in[k].own_visible == 1 ? 1.0f : 0.0f;
-    lanes.of_visible[k][s] = float(t.visible >> k & 1u);
+// The slots of a row marked in_lanes into the combination lanes (the others get count 0), one input of every
+// slot at a time, each slot's inputs' uniforms drawn from its stream in combine's order; the lanes read the
+// row's targets where evaluate_reuse_targets left them. Returns the largest count.
+int gather_combinations(const ReuseRow& row, int slots, const bool* in_lanes, Rng* rng, CombineLanes& lanes) {
+  int max_count = 0;
+  for (int s = 0; s < slots; ++s) {
+    const int count = in_lanes[s] ? row.count[s] : 0;
+    lanes.count[s] = float(count);
+    max_count = std::max(max_count, count);
   }
+  for (int k = 0; k < max_count; ++k)
+    for (int s = 0; s < slots; ++s) {
+      if (!in_lanes[s] || k >= row.count[s]) continue;
+      const DiReuseInput& in = row.inputs[k][s];
+      lanes.u[k][s] = rng[s].next_float();
+      lanes.M[k][s] = in.M;
+      lanes.W[k][s] = in.reservoir->W;
+      lanes.own[k][s] = in.reservoir->p_hat_y;
+      lanes.own_visible[k][s] = in.own_visible == 1 ? 1.0f : 0.0f;
+      lanes.of_visible[k][s] = float(row.visible[s] >> k & 1u);
+    }
+  lanes.at = row.at_combiner;
+  lanes.of = row.of_combiner;
+  return max_count;
 }
 
 // Combines every slot of a tile row (ReuseRow) into out[first + slot], with the targets evaluated in lanes
@@ -282,27 +300,24 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
   thread_local CombineLanes lanes;
   bool in_lanes[kLaneSlots] = {};
   if (params.simd && params.bias == DiBiasCorrection::Pairwise && params.max_jacobian <= 0.0f) {
-    int max_count = 0;
-    for (int s = 0; s < slots; ++s) {
-      in_lanes[s] = row.count[s] > 0 && targets_known(row, s, params.mis_visibility);
-      if (in_lanes[s])
-        gather_combination(row, s, rng[s], lanes), max_count = std::max(max_count, row.count[s]);
-      else
-        lanes.count[s] = 0.0f;
-    }
-    if (max_count > 0) combine_pairwise_lanes(lanes, slots, max_count, params.mis_visibility);
+    for (int s = 0; s < slots; ++s) in_lanes[s] = row.count[s] > 0 && targets_known(row, s, params.mis_visibility);
+    if (const int max_count = gather_combinations(row, slots, in_lanes, rng, lanes); max_count > 0)
+      combine_pairwise_lanes(lanes, slots, max_count, params.mis_visibility);
   }
+  DiReuseInput inputs[kMaxReuseInputs];  // a slot's inputs, for combining it one at a time
   for (int s = 0; s < slots; ++s) {
     DiReservoir& r = out[first + size_t(s)];
     if (row.count[s] == 0) {
       r = in[first + size_t(s)];
     } else if (!in_lanes[s]) {
-      r = combine(view, row.inputs[s], row.count[s], params, params.simd ? &row.targets[s] : nullptr, rng[s], traced);
+      for (int k = 0; k < row.count[s]; ++k) inputs[k] = row.inputs[k][s];
+      const SlotTargets targets{row, s};
+      r = combine(view, inputs, row.count[s], params, params.simd ? &targets : nullptr, rng[s], traced);
     } else {
       // The kept input's sample, placed for the combining pixel, with the lanes' sums.
       static const DiSample kNone{};
       if (const int k = int(lanes.result.chosen[s]); k >= 0)
-        place_for_combiner(view, row.inputs[s][k], &row.inputs[s][0].domain->lights, r.y);
+        place_for_combiner(view, row.inputs[k][s], &row.inputs[0][s].domain->lights, r.y);
       else
         r.y = kNone;
       r.p_hat_y = lanes.result.p_hat[s], r.w_sum = lanes.result.w_sum[s], r.M = lanes.M_sum[s], r.W = lanes.W_out[s];
@@ -363,11 +378,11 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
   const bool own_visibility = params.mis_visibility && params.bias == DiBiasCorrection::Pairwise;
   auto trace_own_visibility = [&](int slots, ReuseRow& row) {
     auto answer = [&](int s, const RayPacket16& packet, int lane) {
-      row.inputs[s][1].own_visible = Tracer::occluded_lane(packet, lane) ? 0 : 1;
+      row.inputs[1][s].own_visible = Tracer::occluded_lane(packet, lane) ? 0 : 1;
     };
     auto queue = ray_queue16<int>(view.tracer, RayQuery::Occluded, answer);
     for (int s = 0; s < slots; ++s) {
-      const DiReuseInput& in = row.inputs[s][1];
+      const DiReuseInput& in = row.inputs[1][s];
       if (row.count[s] < 2 || in.reservoir->W <= 0.0f || !(in.M * in.reservoir->p_hat_y > 0.0f)) continue;
       queue.add(di_shadow_ray(view.tracer, previous.surfaces[in.pixel], previous.lights, in.reservoir->y), s);
     }
@@ -414,8 +429,8 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
         aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));
         if (params.max_sample_age > 0 && aged.y.age > params.max_sample_age) continue;
         batch.rng[s] = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
-        batch.row.inputs[s][0] = {&reservoirs[i], &current, i, reservoirs[i].M};
-        batch.row.inputs[s][1] = {&aged, &previous, size_t(j), std::min(aged.M, params.history_cap * reservoirs[i].M)};
+        batch.row.inputs[0][s] = {&reservoirs[i], &current, i, reservoirs[i].M};
+        batch.row.inputs[1][s] = {&aged, &previous, size_t(j), std::min(aged.M, params.history_cap * reservoirs[i].M)};
         batch.row.count[s] = 2;
         history_pixel[i] = int32_t(j);
       }
@@ -511,17 +526,18 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     }
     similar_neighbour_lanes(lanes, count, slots, params.depth_tolerance, params.normal_tolerance);
   };
-  // The pixel and its similar neighbours, as the inputs of its combination (none without a surface);
-  // `lanes`: their similarity tested in slot s of a row, else null (tested here).
-  auto select = [&](size_t i, const Drawn& d, const NeighbourLanes* lanes, int s, int& count, DiReuseInput* inputs) {
+  // The pixel and its similar neighbours, as the inputs of its combination in slot s of `row` (none without a
+  // surface); `lanes`: their similarity tested in slot s of a row, else null (tested here).
+  auto select = [&](size_t i, const Drawn& d, const NeighbourLanes* lanes, int s, ReuseRow& row) {
+    int& count = row.count[s];
     count = 0;
     if (!d.active) return;
-    inputs[count++] = {&in[i], &current, i, in[i].M};
+    row.inputs[count++][s] = {&in[i], &current, i, in[i].M};
     const vec3 n = lanes ? vec3(0.0f) : surfaces[i].shading_n();
     for (int c = 0; c < d.count; ++c) {
       size_t j = d.pixels[c];
       if (lanes ? lanes->similar[c][s] != 0 : similar_surfaces(surfaces[i], n, surfaces[j], params))
-        inputs[count++] = {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
+        row.inputs[count++][s] = {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
     }
   };
   // Per tile row: every pixel's neighbours drawn first (so that the cache misses of their surfaces and
@@ -549,8 +565,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.rng[s], batch.drawn[s]);
       if (params.simd) test_similar(first, slots, batch.drawn, batch.neighbours);
       for (int s = 0; s < slots; ++s)
-        select(first + size_t(s), batch.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row.count[s],
-               batch.row.inputs[s]);
+        select(first + size_t(s), batch.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row);
       traced += combine_row(view, params, slots, batch.row, batch.rng, first, in, out);
     }
     rays.add(traced);

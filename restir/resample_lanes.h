@@ -31,8 +31,8 @@ struct CombineLanes {
   alignas(64) float M[kMaxReuseInputs][kLaneSlots];    // confidence the combination gives input k
   alignas(64) float W[kMaxReuseInputs][kLaneSlots];    // its contribution weight (<= 0: no sample)
   alignas(64) float own[kMaxReuseInputs][kLaneSlots];  // p_k(y_k): the target its reservoir stored
-  alignas(64) float at[kMaxReuseInputs][kLaneSlots];   // p_0(y_k), k >= 1 (read where W > 0)
-  alignas(64) float of[kMaxReuseInputs][kLaneSlots];   // p_k(y_0), k >= 1 (read where input 0's W > 0)
+  const float (*at)[kLaneSlots] = nullptr;             // p_0(y_k), k >= 1 (read where W > 0; ReuseRow's plane)
+  const float (*of)[kLaneSlots] = nullptr;             // p_k(y_0), k >= 1 (read where input 0's W > 0; ReuseRow's)
   alignas(64) float u[kMaxReuseInputs][kLaneSlots];    // resampling uniform of input k
   // With visibility: 1 where y_k is visible from input k's surface, and where y_0 is (read where the
   // weights' terms are positive).

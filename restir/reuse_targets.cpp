@@ -39,23 +39,21 @@ struct Planes {
 // sample placed in plane k (inactive where the slot has no input k), all planes in one call.
 void targets_at_combiners(const Scene& scene, const DiDomain& here, int slots, int max_count, ReuseRow& row,
                           Planes& planes) {
-  for (int s = 0; s < slots; ++s) {
-    const DiReuseInput* in = row.inputs[s];
-    planes.surfaces.set(s, here.surfaces[row.count[s] > 0 ? in[0].pixel : 0]);
-    for (int k = 1; k < max_count; ++k) {
+  for (int s = 0; s < slots; ++s) planes.surfaces.set(s, here.surfaces[row.count[s] > 0 ? row.inputs[0][s].pixel : 0]);
+  for (int k = 1; k < max_count; ++k)
+    for (int s = 0; s < slots; ++s) {
       if (k < row.count[s])
-        set_placed(scene, in[k], here.lights, s, planes.inputs[k]);
+        set_placed(scene, row.inputs[k][s], here.lights, s, planes.inputs[k]);
       else
         planes.inputs[k].clear(s);
     }
-  }
   build_receiver_lanes(planes.surfaces, here.eye, slots, planes.combiners);
   evaluate_candidate_lanes(planes.combiners, planes.inputs + 1, max_count - 1, slots, false);
-  for (int s = 0; s < slots; ++s)
-    for (int k = 1; k < row.count[s]; ++k)
-      if (planes.inputs[k].active[s] > 0.0f) {
-        row.targets[s].at_combiner[k] = planes.inputs[k].p_hat[s];
-        row.targets[s].known_at |= 1u << k;
+  for (int k = 1; k < max_count; ++k)
+    for (int s = 0; s < slots; ++s)
+      if (k < row.count[s] && planes.inputs[k].active[s] > 0.0f) {
+        row.at_combiner[k][s] = planes.inputs[k].p_hat[s];
+        row.known_at[s] |= 1u << k;
       }
 }
 
@@ -66,26 +64,27 @@ void targets_at_combiners(const Scene& scene, const DiDomain& here, int slots, i
 uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, bool visibility, ReuseRow& row,
                               Planes& planes) {
   auto answer = [&](uint32_t tag, const RayPacket16& packet, int lane) {
-    LaneTargets& t = row.targets[tag >> 8];
-    t.known_visible |= 1u << (tag & 255u);
-    if (!Tracer::occluded_lane(packet, lane)) t.visible |= 1u << (tag & 255u);
+    const uint32_t s = tag >> 8, k = tag & 255u;
+    row.known_visible[s] |= 1u << k;
+    if (!Tracer::occluded_lane(packet, lane)) row.visible[s] |= 1u << k;
   };
   auto queue = ray_queue16<uint32_t>(view.tracer, RayQuery::Occluded, answer);
   const LightList* own_placed_by = nullptr;
   for (int k = 1; k < max_count; ++k) {
     const DiDomain* domain = nullptr;
     for (int s = 0; s < slots; ++s) {
+      const DiReuseInput& in = row.inputs[k][s];
       const bool has = k < row.count[s];
       if (has) {
-        CHECK(!domain || domain == row.inputs[s][k].domain);
-        domain = row.inputs[s][k].domain;
+        CHECK(!domain || domain == in.domain);
+        domain = in.domain;
       }
-      planes.surfaces.set(s, has ? row.inputs[s][k].domain->surfaces[row.inputs[s][k].pixel] : PackedSurface{});
+      planes.surfaces.set(s, has ? in.domain->surfaces[in.pixel] : PackedSurface{});
     }
     if (own_placed_by != &domain->lights) {
       for (int s = 0; s < slots; ++s) {
         if (row.count[s] > 1)
-          set_placed(view.scene, row.inputs[s][0], domain->lights, s, planes.own);
+          set_placed(view.scene, row.inputs[0][s], domain->lights, s, planes.own);
         else
           planes.own.clear(s);
       }
@@ -95,10 +94,10 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
     evaluate_candidate_lanes(planes.others, &planes.own, 1, slots, false);
     for (int s = 0; s < slots; ++s)
       if (k < row.count[s] && planes.own.active[s] > 0.0f) {
-        row.targets[s].of_combiner[k] = planes.own.p_hat[s];
-        row.targets[s].known_of |= 1u << k;
+        row.of_combiner[k][s] = planes.own.p_hat[s];
+        row.known_of[s] |= 1u << k;
         if (!visibility || planes.own.p_hat[s] <= 0.0f) continue;
-        const PackedSurface& from = domain->surfaces[row.inputs[s][k].pixel];
+        const PackedSurface& from = domain->surfaces[row.inputs[k][s].pixel];
         // y_0 as placed for input k: a stored point (kSurfacePointSample: use the point as it is).
         const DiSample y{kSurfacePointSample, vec2(0.0f), planes.own.point(s), 0};
         queue.add(di_shadow_ray(view.tracer, from, domain->lights, y), uint32_t(s) << 8 | uint32_t(k));
@@ -115,9 +114,9 @@ uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combin
   int max_count = 0;
   const DiDomain* here = nullptr;
   for (int s = 0; s < slots; ++s) {
-    row.targets[s].known_at = row.targets[s].known_of = row.targets[s].known_visible = row.targets[s].visible = 0;
+    row.known_at[s] = row.known_of[s] = row.known_visible[s] = row.visible[s] = 0;
     max_count = std::max(max_count, row.count[s]);
-    if (row.count[s] > 0) here = row.inputs[s][0].domain;
+    if (row.count[s] > 0) here = row.inputs[0][s].domain;
   }
   if (max_count < 2) return 0;
   targets_at_combiners(view.scene, *here, slots, max_count, row, planes);

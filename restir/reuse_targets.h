@@ -18,24 +18,21 @@ namespace candela {
 
 inline constexpr int kMaxReuseInputs = 32;  // a pixel and up to 31 neighbours
 
-// One combination's targets evaluated beforehand: bit k of `known_at` says at_combiner[k] = p_0(y_k) was
-// evaluated, bit k of `known_of` that of_combiner[k] = p_k(y_0) was, and bit k of `known_visible` that bit
-// k of `visible` says whether y_0 is visible from input k's surface.
-struct LaneTargets {
-  uint32_t known_at = 0, known_of = 0, known_visible = 0, visible = 0;
-  float at_combiner[kMaxReuseInputs];
-  float of_combiner[kMaxReuseInputs];
-};
-
-// One tile row of combinations: slot s combines inputs[s][0..count[s]) (input 0: the pixel of the slot);
-// every slot's input k (k >= 1) comes from the same domain, and all inputs 0 from the same one.
+// One tile row of combinations as planes, input k of slot s at [k][s]: slot s combines inputs[0..count[s])[s]
+// (input 0: the pixel of the slot); every slot's input k (k >= 1) comes from the same domain, and all inputs 0
+// from the same one. The targets evaluated beforehand are planes of the same shape: bit k of known_at[s] says
+// at_combiner[k][s] = p_0(y_k) was evaluated, bit k of known_of[s] that of_combiner[k][s] = p_k(y_0) was, and
+// bit k of known_visible[s] that bit k of visible[s] says whether y_0 is visible from input k's surface. (Laid
+// out per slot, [s][k], every pass over one input of the row's slots touched a cache line per slot.)
 struct ReuseRow {
   int count[kLaneSlots];
-  DiReuseInput inputs[kLaneSlots][kMaxReuseInputs];
-  LaneTargets targets[kLaneSlots];
+  DiReuseInput inputs[kMaxReuseInputs][kLaneSlots];
+  uint32_t known_at[kLaneSlots], known_of[kLaneSlots], known_visible[kLaneSlots], visible[kLaneSlots];
+  alignas(64) float at_combiner[kMaxReuseInputs][kLaneSlots];
+  alignas(64) float of_combiner[kMaxReuseInputs][kLaneSlots];
 };
 
-// Fills row.targets of slots [0, slots): p_0(y_k) for every input k >= 1 with a sample, with `of_combiner`
+// Fills the targets of row's slots [0, slots): p_0(y_k) for every input k >= 1 with a sample, with `of_combiner`
 // (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a sample, and with `visibility`
 // (MIS weights with visibility) whether y_0 is visible from input k's surface where p_k(y_0) > 0. Cost per
 // slot and input: 2 receiver builds and 2 target evaluations in lanes, plus transposing surfaces and samples
