@@ -25,7 +25,8 @@ struct DiReuseParams {
   int spatial_neighbours = 5;        // per pass; each costs k + 1 target evaluations in basic mode
   int disocclusion_neighbours = 10;  // first pass, pixels where temporal reuse found no history: more
                                      // neighbours make up for the lost history (a disocclusion boost)
-  float spatial_radius = 16.0f;      // pixels
+  float spatial_radius = 8.0f;       // pixels; 8 beat 16 and 32 at equal time on city and occluded_room and lost
+                                     // 1-2% on manylights (docs/restir.md, "Spatial radius at equal time")
   int neighbour_block = 4;           // > 1: the pixels of each block this many pixels on a side take the same
                                      // neighbour offsets (cheaper: neighbouring pixels read neighbouring data;
                                      // unbiased, the choice ignores the samples); 4 chosen at equal time
