@@ -22,7 +22,9 @@ struct DiReuseParams {
                                       // fixed per frame): decorrelates frames for a temporal denoiser; unbiased
                                       // with basic/pairwise, slightly blurrier
   bool spatial = true;
-  int spatial_neighbours = 5;        // per pass; each costs k + 1 target evaluations in basic mode
+  int spatial_neighbours = 3;        // per pass; each costs k + 1 target evaluations in basic mode; 3 beat 5 at
+                                     // equal time on manylights, city and occluded_room with the radius of 8
+                                     // (docs/restir.md, "Spatial radius at equal time")
   int disocclusion_neighbours = 10;  // first pass, pixels where temporal reuse found no history: more
                                      // neighbours make up for the lost history (a disocclusion boost)
   float spatial_radius = 8.0f;       // pixels; 8 beat 16 and 32 at equal time on city and occluded_room and lost
