@@ -10,8 +10,12 @@ G-buffer). Prints the mean relMSE over evaluated frames and seeds (and its media
 mean), the median time and their product (lower is better at equal time). Seeds run in the outer loop, values
 in the inner, so that the machine's drift falls on every value alike.
 
-usage: tools/sweep_moving.py SHOT.json KEY "VALUE..." [--seeds N] [--last F] [--eval F,F,...]
+usage: tools/sweep_moving.py SHOT.json KEY "VALUE..." [--seeds N] [--last F] [--eval F,F,...] [--method M]
+                             [--set KEY=VALUE ...]
   e.g. tools/sweep_moving.py docs/shots/orbit_manylights.json di_disocclusion_neighbours "3 10" --seeds 2
+       tools/sweep_moving.py docs/shots/orbit_manylights.json gi_disocclusion_neighbours "6 10" --method restir \
+           --set max_depth=3
+--method replaces the shot's method; --set changes a key of the runs and of the reference alike.
 KEY is a script key (settings.md's long option name with _ for -); values are JSON (3, true, "tree").
 Writes into out/moving/.
 """
@@ -49,16 +53,23 @@ def main():
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument("--last", type=int, default=23, help="last frame rendered (from 0)")
     parser.add_argument("--eval", default="8,16,23", help="frames whose relMSE counts")
+    parser.add_argument("--method", help="the method of the runs (default: the shot's)")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="a key of runs and reference")
     args = parser.parse_args()
     base = json.load(open(args.shot))
     base.pop("denoise", None)
+    for setting in args.set:
+        key, _, value = setting.partition("=")
+        base[key] = json.loads(value)
+    if args.method:
+        base["method"] = args.method
     frames = [int(f) for f in args.eval.split(",")]
     if max(frames) > args.last:
         sys.exit(f"error: --eval frame {max(frames)} is after --last {args.last}")
     out = "out/moving"
     os.makedirs(out, exist_ok=True)
-    name = os.path.splitext(os.path.basename(args.shot))[0]
     method = base.get("method", "pt")
+    name = "_".join([os.path.splitext(os.path.basename(args.shot))[0], method] + [s.replace("=", "") for s in args.set])
     # The reference of each evaluated frame: a method without history, so that each frame renders alone.
     reference = {"method": "direct", "light_sampler": "tree"} if method == "restir-di" else {
         "method": "pt", "light_sampler": "power"}
