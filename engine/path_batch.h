@@ -18,6 +18,9 @@ namespace candela {
 struct PathVertexBatch {
   SurfacePoint scratch[kLaneSlots];         // the surfaces arrive_at_vertex computes
   const SurfacePoint* sp[kLaneSlots] = {};  // the scattering vertices' surfaces (arrive_at_vertex's answer)
+  ShadingContext ctx[kLaneSlots];           // what the light choice is for
+  vec2 u_choice[kLaneSlots];                // the light choice's uniforms
+  LightChoice choice[kLaneSlots];           // the chosen light and the point's uniforms
   float pmf[kLaneSlots] = {};               // the light sample's selection probability
   LightSample light_sample[kLaneSlots];
   BsdfVertexLanes vertices;
@@ -53,19 +56,31 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     b.vertices.wox[j] = wo.x, b.vertices.woy[j] = wo.y, b.vertices.woz[j] = wo.z;
   }
   build_bsdf_lanes(b.vertices, count, b.bsdf);
-  // Draw: each scattering vertex's light sample, then its BSDF direction from the lanes' terms.
+  // Draw: each scattering vertex's light sample, then its BSDF direction from the lanes' terms. In three passes
+  // over the group (each path's random numbers still in path_bounce's order), so that the cache misses of the
+  // sampler's tables and of the chosen lights' records overlap across paths: the choices' uniforms (and the
+  // sampler's prefetch), the choices with the other uniforms (and the lights' records prefetched), the points.
+  for (int j = 0; j < count; ++j) {
+    if (!b.sp[j]) continue;
+    b.ctx[j] = {b.sp[j]->position, b.sp[j]->shading_normal};
+    b.u_choice[j] = rngs[group[j]].next_2d();
+    prefetch_lights(sampler, b.ctx[j], &b.u_choice[j], 1);
+  }
   for (int j = 0; j < count; ++j) {
     b.light.active[j] = b.next.active[j] = 0.0f;
     if (!b.sp[j]) continue;
     Stream& rng = rngs[group[j]];
-    const SurfacePoint& sp = *b.sp[j];
-    if (draw_light_sample(view, sampler, sp, rng, b.pmf[j], b.light_sample[j])) {
-      const vec3& wi = b.light_sample[j].wi;
-      b.light.x[j] = wi.x, b.light.y[j] = wi.y, b.light.z[j] = wi.z, b.light.active[j] = 1.0f;
-    }
+    b.choice[j] = draw_light_choice(sampler, b.ctx[j], b.u_choice[j], rng);
+    if (b.choice[j].chosen.pmf > 0.0f && b.choice[j].chosen.index < view.lights.triangle_count())
+      view.lights.prefetch_triangle(b.choice[j].chosen.index);
     const vec2 u = rng.next_2d();
     b.uniforms.u[0][j] = u.x, b.uniforms.u[1][j] = u.y, b.uniforms.lobe[j] = rng.next_float();
     b.next.active[j] = 1.0f;
+  }
+  for (int j = 0; j < count; ++j) {
+    if (!b.sp[j] || !place_light_sample(view, *b.sp[j], b.choice[j], b.pmf[j], b.light_sample[j])) continue;
+    const vec3& wi = b.light_sample[j].wi;
+    b.light.x[j] = wi.x, b.light.y[j] = wi.y, b.light.z[j] = wi.z, b.light.active[j] = 1.0f;
   }
   sample_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, b.uniforms, count, b.next);
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, true, b.light);

@@ -46,17 +46,31 @@ inline float power_heuristic(float a, float b) {
 // Next-event estimation at one surface point, its draw: picks a light with the sampler and samples a point
 // on it (4 random numbers, always drawn). False when the sample cannot contribute whatever the BSDF: no light,
 // zero density or radiance, or below the geometric surface. `pmf` is the light's selection probability.
+// In two steps, so that a caller with many points can choose every light first and overlap the cache misses of
+// their records (bounce_paths): draw_light_choice (the light, and the point's uniforms), then place_light_sample.
+struct LightChoice {
+  SampledLight chosen;
+  vec2 u;  // the point's uniforms
+};
+template <LightSampler S, class Stream>
+LightChoice draw_light_choice(const S& sampler, const ShadingContext& ctx, const vec2& u_choice, Stream& rng) {
+  const SampledLight chosen = sampler.sample(ctx, u_choice);
+  return {chosen, rng.next_2d()};
+}
+inline bool place_light_sample(const SceneView& view, const SurfacePoint& sp, const LightChoice& choice, float& pmf,
+                               LightSample& ls) {
+  if (choice.chosen.pmf <= 0.0f) return false;
+  pmf = choice.chosen.pmf;
+  ls = view.lights.sample(view.scene, choice.chosen.index, sp.position, choice.u);
+  if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return false;
+  return glm::dot(ls.wi, sp.geometric_normal) > 0.0f;
+}
 template <LightSampler S, class Stream>
 bool draw_light_sample(const SceneView& view, const S& sampler, const SurfacePoint& sp, Stream& rng, float& pmf,
                        LightSample& ls) {
-  ShadingContext ctx{sp.position, sp.shading_normal};
-  SampledLight chosen = sampler.sample(ctx, rng.next_2d());
-  vec2 u = rng.next_2d();
-  if (chosen.pmf <= 0.0f) return false;
-  pmf = chosen.pmf;
-  ls = view.lights.sample(view.scene, chosen.index, sp.position, u);
-  if (ls.pdf <= 0.0f || max_component(ls.radiance) <= 0.0f) return false;
-  return glm::dot(ls.wi, sp.geometric_normal) > 0.0f;
+  const vec2 u_choice = rng.next_2d();
+  return place_light_sample(view, sp, draw_light_choice(sampler, {sp.position, sp.shading_normal}, u_choice, rng), pmf,
+                            ls);
 }
 
 // Next-event estimation's end up to its shadow ray, for a drawn light sample: with f = the BSDF times |cos| at
