@@ -43,8 +43,6 @@ inline DiReuseParams default_gi_reuse() {
   p.spatial_neighbours = 2;  // chosen at equal time (docs/restir.md, "Spatial neighbours and light candidates")
   p.neighbour_block = 1;     // shared neighbour offsets are measured for DI only (docs/restir.md, "Neighbour offsets")
   p.spatial_radius = 16.0f;  // DI's 8 pixels were measured for DI only (docs/restir.md, "Spatial radius at equal time")
-  p.disocclusion_neighbours = 10;  // DI's 6 were measured for DI only (docs/restir.md, "Disocclusion neighbours in
-                                   // motion")
   return p;
 }
 

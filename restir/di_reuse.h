@@ -22,19 +22,19 @@ struct DiReuseParams {
                                       // fixed per frame): decorrelates frames for a temporal denoiser; unbiased
                                       // with basic/pairwise, slightly blurrier
   bool spatial = true;
-  int spatial_neighbours = 3;       // per pass; each costs k + 1 target evaluations in basic mode; 3 beat 5 at
-                                    // equal time on manylights, city and occluded_room with the radius of 8
-                                    // (docs/restir.md, "Spatial radius at equal time")
-  int disocclusion_neighbours = 6;  // first pass, pixels where temporal reuse found no history: more neighbours
-                                    // make up for the lost history (a disocclusion boost); 6 matched 10's error
-                                    // in less time on moving shots, 3 lost on city (docs/restir.md,
-                                    // "Disocclusion neighbours in motion")
-  float spatial_radius = 8.0f;      // pixels; 8 beat 16 and 32 at equal time on city and occluded_room and lost
-                                    // 1-2% on manylights (docs/restir.md, "Spatial radius at equal time")
-  int neighbour_block = 4;          // > 1: the pixels of each block this many pixels on a side take the same
-                                    // neighbour offsets (cheaper: neighbouring pixels read neighbouring data;
-                                    // unbiased, the choice ignores the samples); 4 chosen at equal time
-                                    // (docs/restir.md, "Neighbour offsets")
+  int spatial_neighbours = 3;        // per pass; each costs k + 1 target evaluations in basic mode; 3 beat 5 at
+                                     // equal time on manylights, city and occluded_room with the radius of 8
+                                     // (docs/restir.md, "Spatial radius at equal time")
+  int disocclusion_neighbours = 10;  // first pass, pixels where temporal reuse found no history: more
+                                     // neighbours make up for the lost history (a disocclusion boost); on moving
+                                     // shots 3, 6 and 10 were within noise except city, where 10 won
+                                     // (docs/restir.md, "Disocclusion neighbours in motion")
+  float spatial_radius = 8.0f;       // pixels; 8 beat 16 and 32 at equal time on city and occluded_room and lost
+                                     // 1-2% on manylights (docs/restir.md, "Spatial radius at equal time")
+  int neighbour_block = 4;           // > 1: the pixels of each block this many pixels on a side take the same
+                                     // neighbour offsets (cheaper: neighbouring pixels read neighbouring data;
+                                     // unbiased, the choice ignores the samples); 4 chosen at equal time
+                                     // (docs/restir.md, "Neighbour offsets")
   int spatial_passes = 1;
   float depth_tolerance = 0.1f;   // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this

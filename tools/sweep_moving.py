@@ -2,12 +2,12 @@
 """Efficiency of one render setting's values on a moving shot, for choosing defaults that only matter in motion
 (disocclusion, history caps): tools/sweep_restir.sh's measure, but on the frames of a shot script.
 
-For each value and seed, the shot's frames 0..LAST render without a denoiser (`candela render --script`, the
-setting overridden in a copy of the script); at each evaluated frame the image's relMSE is taken against a
-converged reference of the same frame (`direct` with the light tree, 1,024 spp, seed 99; for `restir`, `pt`
-with the power sampler), and the estimator time of every frame after the first (all stages after the
-G-buffer). Prints the mean relMSE over evaluated frames and seeds (and its median: one firefly can rule the
-mean), the median time and their product (lower is better at equal time). Seeds run in the outer loop, values
+For each value and seed, the shot's frames 0..LAST render without a denoiser and with pixel-centre rays
+(`candela render --script`, the setting overridden in a copy of the script); at each evaluated frame the image's
+relMSE is taken against a converged reference of the same frame (`direct` with the light tree, 1,024 spp, seed
+99; for `restir`, `pt` with the power sampler), and the estimator time of every frame after the first (all stages
+after the G-buffer). Prints the mean relMSE over evaluated frames and seeds (and its median: one firefly can rule
+the mean), the median time and their product (lower is better at equal time). Seeds run in the outer loop, values
 in the inner, so that the machine's drift falls on every value alike.
 
 usage: tools/sweep_moving.py SHOT.json KEY "VALUE..." [--seeds N] [--last F] [--eval F,F,...] [--method M]
@@ -58,6 +58,9 @@ def main():
     args = parser.parse_args()
     base = json.load(open(args.shot))
     base.pop("denoise", None)
+    # Pixel-centre primary rays in runs and reference alike, so that aliasing does not count (a jittered ray that
+    # hits a tiny bright emitter is a "firefly" no estimator setting changes).
+    base["jitter"] = False
     for setting in args.set:
         key, _, value = setting.partition("=")
         base[key] = json.loads(value)
@@ -69,7 +72,8 @@ def main():
     out = "out/moving"
     os.makedirs(out, exist_ok=True)
     method = base.get("method", "pt")
-    name = "_".join([os.path.splitext(os.path.basename(args.shot))[0], method] + [s.replace("=", "") for s in args.set])
+    name = "_".join([os.path.splitext(os.path.basename(args.shot))[0], method, "centre"] +
+                    [s.replace("=", "") for s in args.set])
     # The reference of each evaluated frame: a method without history, so that each frame renders alone.
     reference = {"method": "direct", "light_sampler": "tree"} if method == "restir-di" else {
         "method": "pt", "light_sampler": "power"}
