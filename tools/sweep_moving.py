@@ -94,6 +94,9 @@ def main():
             tag = f"{name}_{args.key}_{value}_{seed}"
             path, images, stats = f"{out}/{tag}.json", f"{out}/{tag}_%04d.exr", f"{out}/{tag}_stats"
             write_script(base, {args.key: json.loads(value), "seed": seed}, images, stats, path)
+            for f in range(args.last + 1):  # an earlier sweep's frames would count as finished and not render
+                if os.path.exists(images % f):
+                    os.remove(images % f)
             subprocess.run([CANDELA, "render", "--script", path, "--frames", f"0:{args.last}", "-q"], check=True)
             for frame in json.load(open(f"{stats}_0-{args.last}.json"))[1:]:
                 times[value].append(
@@ -104,6 +107,7 @@ def main():
         median = statistics.median(errors[value])
         print(f"{name:24s} {args.key + ' ' + value:36s} {rel:10.4g} {median:10.4g} {ms:8.1f} {rel * ms:12.4g}",
               flush=True)
+
 
 if __name__ == "__main__":
     main()
