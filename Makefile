@@ -20,7 +20,7 @@ FUZZ_SECONDS ?= 60
 # code the other tests run) and the viewer's OpenGL tests (ViewerHeadless.*, cli.view_*): Mesa leaks in
 # libraries it unloads before the leak report (no suppression can name them), and a sanitized headless
 # view was seen to hang inside Mesa for 14 minutes. --timeout stops any other hang.
-SANITIZE_EXCLUDE ?= ^(Convergence\.|Unbiased\.|ViewerHeadless\.|cli\.view_)
+SANITIZE_EXCLUDE ?= ^(Convergence\.|ConvergenceShared\.|Unbiased\.|ViewerHeadless\.|cli\.view_)
 SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1 \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 

@@ -86,8 +86,10 @@ class LightList {
 
   size_t size() const { return triangles_.size() + punctual_.size(); }
   size_t triangle_count() const { return triangles_.size(); }
-  // Starts loading triangle light `index`'s record (area, point placement), which may span two cache lines.
-  void prefetch_triangle(size_t index) const {
+  // Starts loading light `index`'s record (area, point placement; it may span two cache lines) where it is a
+  // triangle light: punctual lights are few and stay in cache.
+  void prefetch(size_t index) const {
+    if (index >= triangles_.size()) return;
     const char* record = reinterpret_cast<const char*>(&triangles_[index]);
     __builtin_prefetch(record), __builtin_prefetch(record + sizeof(TriangleLight) - 1);
   }

@@ -71,8 +71,7 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     if (!b.sp[j]) continue;
     Stream& rng = rngs[group[j]];
     b.choice[j] = draw_light_choice(sampler, b.ctx[j], b.u_choice[j], rng);
-    if (b.choice[j].chosen.pmf > 0.0f && b.choice[j].chosen.index < view.lights.triangle_count())
-      view.lights.prefetch_triangle(b.choice[j].chosen.index);
+    view.lights.prefetch(b.choice[j].chosen.index);
     const vec2 u = rng.next_2d();
     b.uniforms.u[0][j] = u.x, b.uniforms.u[1][j] = u.y, b.uniforms.lobe[j] = rng.next_float();
     b.next.active[j] = 1.0f;

@@ -154,9 +154,7 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     if (!batch.slot[s].hit) continue;
     SampledLight* chosen = &batch.chosen[size_t(s * K)];
     sample_lights(sampler, batch.slot[s].ctx, &batch.light_u[size_t(s * K)], chosen, K);
-    for (int k = 0; k < K; ++k)
-      if (chosen[k].pmf > 0.0f && chosen[k].index < view.lights.triangle_count())
-        view.lights.prefetch_triangle(chosen[k].index);
+    for (int k = 0; k < K; ++k) view.lights.prefetch(chosen[k].index);
   }
   // Each candidate's light and density into the batch and its point straight into the lanes (a whole
   // DiSample assembled and copied per candidate stalled on store forwarding in the profile).
