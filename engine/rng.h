@@ -65,7 +65,6 @@ class Rng {
 template <int N>
 struct RngRow {
   uint64_t state[N] = {}, inc[N] = {};
-  void load(int s, const Rng& r) { state[s] = r.state_, inc[s] = r.inc_; }
   Rng stream(int s) const { return Rng(Rng::Raw{}, state[s], inc[s]); }
   // Slot s of [0, slots) gets Rng::for_key(seed, a + s, b, c): the same keying, in a loop over the slots that
   // the compiler vectorises (~12 64-bit multiplies per slot, at throughput rather than latency).

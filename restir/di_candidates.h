@@ -103,8 +103,8 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     for (int k = 0; k < K; ++k) batch.planes[size_t(k)].clear(s);
     batch.surfaces.set(s, domain.surfaces[i]);
     if (params.simd) batch.exact_surfaces.set(s, g, i);  // the exact BSDF's terms are built in lanes
-    if (b.hit) batch.streams.load(s, Rng::for_key(params.seed, i, uint64_t(frame), 0xd1));
   }
+  batch.streams.key(slots, params.seed, row, uint64_t(frame), 0xd1);  // Rng::for_key(seed, pixel, frame, 0xd1)
   // The candidates' uniforms, in the order one candidate at a time would draw them: per candidate, a tile
   // entry and the resampling uniform, or the light choice (2), the point (2) and the resampling uniform.
   const int per_candidate = tiles ? 2 : 5;

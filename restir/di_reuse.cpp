@@ -395,6 +395,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     struct Batch {
       ReuseRow row;
       DiReservoir aged[kLaneSlots];
+      RngRow<kLaneSlots> keyed;  // the slots' streams, keyed in lanes
       Rng rng[kLaneSlots];
       int64_t previous[kLaneSlots];  // the reprojected pixel, or -1
       NeighbourLanes similar;        // params.simd: whether its surface is similar
@@ -405,6 +406,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
       for (int s = 0; s < slots; ++s) batch.previous[s] = reprojected(first + size_t(s), tile.x0 + s, y);
+      batch.keyed.key(slots, params.seed, first, uint64_t(frame), 0xd2);
       if (params.simd) {
         for (int s = 0; s < slots; ++s) {
           batch.similar.set(s, current.surfaces[first + size_t(s)]);
@@ -428,7 +430,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
         aged = history[size_t(j)];
         aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));
         if (params.max_sample_age > 0 && aged.y.age > params.max_sample_age) continue;
-        batch.rng[s] = Rng::for_key(params.seed, i, uint64_t(frame), 0xd2);
+        batch.rng[s] = batch.keyed.stream(s);
         batch.row.inputs[0][s] = {&reservoirs[i], &current, i, reservoirs[i].M};
         batch.row.inputs[1][s] = {&aged, &previous, size_t(j), std::min(aged.M, params.history_cap * reservoirs[i].M)};
         batch.row.count[s] = 2;
@@ -490,7 +492,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     const uint64_t b = uint64_t(y / block) * uint64_t(blocks_x) + uint64_t(x / block);
     return Rng::for_key(params.seed, b, uint64_t(frame), 0xd5 + uint64_t(pass)).next_u32();
   };
-  // shared_start: the pixel's block's start (block > 1).
+  // shared_start: the pixel's block's start (block > 1); rng: the pixel's stream, keyed.
   auto draw = [&](size_t i, int x, int y, uint32_t shared_start, Rng& rng, Drawn& d) {
     d.count = 0;
     d.active = surfaces[i].hit() && surfaces[i].roughness() >= params.min_roughness;
@@ -498,7 +500,6 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     const int neighbours =
         boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, kMaxReuseInputs - 1);
-    rng = Rng::for_key(params.seed, i, uint64_t(frame), 0xd3 + uint64_t(pass));
     const uint32_t own_start = rng.next_u32();  // drawn either way: the stream's later numbers stay the same
     const uint32_t start = block > 1 ? shared_start : own_start;
     for (int k = 1; k < max_inputs; ++k) {
@@ -547,6 +548,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     struct Batch {
       ReuseRow row;
       Drawn drawn[kLaneSlots];
+      RngRow<kLaneSlots> keyed;  // the slots' streams, keyed in lanes
       Rng rng[kLaneSlots];
       uint32_t start[kLaneSlots] = {};  // block > 1: each slot's block's start
       NeighbourLanes neighbours;        // params.simd
@@ -561,8 +563,11 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         const int x = tile.x0 + s;
         batch.start[s] = s > 0 && x % block != 0 ? batch.start[s - 1] : block_start(x, y);
       }
-      for (int s = 0; s < slots; ++s)
+      batch.keyed.key(slots, params.seed, first, uint64_t(frame), 0xd3 + uint64_t(pass));
+      for (int s = 0; s < slots; ++s) {
+        batch.rng[s] = batch.keyed.stream(s);  // Rng::for_key(seed, pixel, frame, 0xd3 + pass)
         draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.rng[s], batch.drawn[s]);
+      }
       if (params.simd) test_similar(first, slots, batch.drawn, batch.neighbours);
       for (int s = 0; s < slots; ++s)
         select(first + size_t(s), batch.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row);

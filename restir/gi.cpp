@@ -12,7 +12,8 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
     ReceiverLanes receivers;
     BsdfUniformLanes uniforms;
     DirectionLanes directions;
-    Rng rng[kLaneSlots];
+    RngRow<kLaneSlots> streams;
+    alignas(64) float numbers[6 * kLaneSlots];
     vec2 tag[kLaneSlots];
     float u[kLaneSlots];
   };
@@ -24,8 +25,11 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
     if (g.hit(first + size_t(s))) row.surfaces.set(s, g, first + size_t(s));
   build_exact_receivers(row.surfaces, domain.eye, slots, row.receivers);
   // Per hit pixel: the uniforms of its first direction, drawn from its BSDF (the random numbers in the order the
-  // scalar code drew them: the direction's two, the tag's two, the lobe's and the reservoir's uniform).
+  // scalar code drew them: the direction's two, the tag's two, the lobe's and the reservoir's uniform), every
+  // slot's stream keyed and drawn in lanes (number n of slot s at numbers[n * kLaneSlots + s]).
   const BsdfLanes& bsdf = row.receivers.exact;
+  row.streams.key(slots, params.seed, first, uint64_t(frame), 0x61);
+  row.streams.fill(6, slots, row.numbers);
   for (int s = 0; s < slots; ++s) {
     const size_t i = first + size_t(s);
     out[i] = DiReservoir{};
@@ -36,12 +40,11 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
     // there, the neighbours' samples were weighted as if this pixel could not have drawn theirs: +11%
     // indirect light with one neighbour, measured).
     out[i].M = 1.0f;
-    Rng& rng = row.rng[s];
-    rng = Rng::for_key(params.seed, i, uint64_t(frame), 0x61);
-    vec2 ub(rng.next_float(), rng.next_float()), tag(rng.next_float(), rng.next_float());
-    float lobe = rng.next_float(), u = rng.next_float();
-    row.tag[s] = tag, row.u[s] = u;
-    row.uniforms.u[0][s] = ub.x, row.uniforms.u[1][s] = ub.y, row.uniforms.lobe[s] = lobe;
+    // Each pair y before x, as the scalar vec2(rng.next_float(), rng.next_float()) took them (GCC evaluates a
+    // constructor's arguments right to left), so that images stay those of earlier versions.
+    auto number = [&](int n) { return row.numbers[n * kLaneSlots + s]; };
+    row.tag[s] = vec2(number(3), number(2)), row.u[s] = number(5);
+    row.uniforms.u[0][s] = number(1), row.uniforms.u[1][s] = number(0), row.uniforms.lobe[s] = number(4);
     row.directions.active[s] = 1.0f;
   }
   // The directions and their densities (Bsdf::sample's), in lanes; then the paths of the directions it accepts
@@ -57,7 +60,7 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
     starts.push_back(GiStart{i, g.position[i], pdf, row.tag[s], row.u[s]});
     paths.emplace_back(PathStart{view.tracer.spawn_ray(g.position[i], g.geometric_normal[i], wi), 1, pdf,
                                  ShadingContext{g.position[i], g.shading_normal[i]}, false});
-    rngs.push_back(row.rng[s]);
+    rngs.push_back(row.streams.stream(s));
   }
 }
 

@@ -9,17 +9,15 @@
 namespace candela {
 namespace {
 
-// 64 streams keyed as the candidate stage keys pixels, 23 numbers each (an odd count, so that no slot's
-// numbers line up with a vector's), filled in two calls over the first 61 slots: every number and every
-// stream's next number must equal the scalar stream's bits.
+// 64 streams keyed in a row as the ReSTIR stages key a tile row's pixels (RngRow::key), 23 numbers each (an odd
+// count, so that no slot's numbers line up with a vector's), filled in two calls over the first 61 slots: every
+// number and every stream's next number must equal the bits of the scalar stream Rng::for_key gives.
 TEST(Rng, RowGivesEachStreamsNumbers) {
   constexpr int kSlots = 64, kUsed = 61, kFirst = 9, kSecond = 14;
   RngRow<kSlots> row;
+  row.key(kUsed, 1234, 1000, 5, 0xd1);
   Rng scalar[kSlots];
-  for (int s = 0; s < kUsed; ++s) {
-    scalar[s] = Rng::for_key(1234, uint64_t(1000 + 37 * s), 5, 0xd1);
-    row.load(s, scalar[s]);
-  }
+  for (int s = 0; s < kUsed; ++s) scalar[s] = Rng::for_key(1234, uint64_t(1000 + s), 5, 0xd1);
   std::vector<float> first(kFirst * kSlots), second(kSecond * kSlots);
   row.fill(kFirst, kUsed, first.data());
   row.fill(kSecond, kUsed, second.data());
