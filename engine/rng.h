@@ -66,6 +66,8 @@ template <int N>
 struct RngRow {
   uint64_t state[N] = {}, inc[N] = {};
   Rng stream(int s) const { return Rng(Rng::Raw{}, state[s], inc[s]); }
+  // The next number of slot s's stream alone (Rng::next_u32).
+  uint32_t next_u32(int s) { return Rng::step(state[s], inc[s]); }
   // Slot s of [0, slots) gets Rng::for_key(seed, a + s, b, c): the same keying, in a loop over the slots that
   // the compiler vectorises (~12 64-bit multiplies per slot, at throughput rather than latency).
   void key(int slots, uint64_t seed, uint64_t a, uint64_t b, uint64_t c) {

@@ -9,6 +9,9 @@ namespace candela {
 
 namespace {
 
+// The random streams of a tile row's pixels (slot s: pixel first + s), each where its combination starts.
+using ReuseStreams = RngRow<kLaneSlots>;
+
 // Spatial reuse's neighbour offsets in the unit disk: the R2 sequence (Roberts 2018, "The Unreasonable
 // Effectiveness of Quasirandom Sequences": frac(0.5 + n (1/g, 1/g^2)), g the plastic number) over the square,
 // kept where it falls in the disk. A pixel reads consecutive entries from a random start (the neighbour
@@ -263,20 +266,23 @@ bool targets_known(const ReuseRow& row, int s, bool visibility) {
 }
 
 // The slots of a row marked in_lanes into the combination lanes (the others get count 0), one input of every
-// slot at a time, each slot's inputs' uniforms drawn from its stream in combine's order; the lanes read the
-// row's targets where evaluate_reuse_targets left them. Returns the largest count.
-int gather_combinations(const ReuseRow& row, int slots, const bool* in_lanes, Rng* rng, CombineLanes& lanes) {
+// slot at a time; the uniforms of every slot's inputs, in combine's order, drawn in lanes from a copy of the
+// streams (slots that do not combine in lanes ignore theirs); the lanes read the row's targets where
+// evaluate_reuse_targets left them. Returns the largest count.
+int gather_combinations(const ReuseRow& row, int slots, const bool* in_lanes, const ReuseStreams& streams,
+                        CombineLanes& lanes) {
   int max_count = 0;
   for (int s = 0; s < slots; ++s) {
     const int count = in_lanes[s] ? row.count[s] : 0;
     lanes.count[s] = float(count);
     max_count = std::max(max_count, count);
   }
+  ReuseStreams uniforms = streams;
+  uniforms.fill(max_count, slots, &lanes.u[0][0]);  // lanes.u[k][s]: number k of slot s
   for (int k = 0; k < max_count; ++k)
     for (int s = 0; s < slots; ++s) {
       if (!in_lanes[s] || k >= row.count[s]) continue;
       const DiReuseInput& in = row.inputs[k][s];
-      lanes.u[k][s] = rng[s].next_float();
       lanes.M[k][s] = in.M;
       lanes.W[k][s] = in.reservoir->W;
       lanes.own[k][s] = in.reservoir->p_hat_y;
@@ -290,10 +296,11 @@ int gather_combinations(const ReuseRow& row, int slots, const bool* in_lanes, Rn
 
 // Combines every slot of a tile row (ReuseRow) into out[first + slot], with the targets evaluated in lanes
 // first where params.simd, and with pairwise MIS the combinations too (resample_lanes.h; slots whose targets
-// or visibilities are not all known combine one at a time); `rng` gives each slot's random stream. A
+// or visibilities are not all known combine one at a time); `streams` gives each slot's random numbers. A
 // slot without inputs keeps its reservoir of `in`. Returns the rays traced.
-uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row, Rng* rng,
-                     size_t first, const std::vector<DiReservoir>& in, std::vector<DiReservoir>& out) {
+uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row,
+                     const ReuseStreams& streams, size_t first, const std::vector<DiReservoir>& in,
+                     std::vector<DiReservoir>& out) {
   const bool weights = params.bias != DiBiasCorrection::None;
   uint64_t traced =
       params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
@@ -301,7 +308,7 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
   bool in_lanes[kLaneSlots] = {};
   if (params.simd && params.bias == DiBiasCorrection::Pairwise && params.max_jacobian <= 0.0f) {
     for (int s = 0; s < slots; ++s) in_lanes[s] = row.count[s] > 0 && targets_known(row, s, params.mis_visibility);
-    if (const int max_count = gather_combinations(row, slots, in_lanes, rng, lanes); max_count > 0)
+    if (const int max_count = gather_combinations(row, slots, in_lanes, streams, lanes); max_count > 0)
       combine_pairwise_lanes(lanes, slots, max_count, params.mis_visibility);
   }
   DiReuseInput inputs[kMaxReuseInputs];  // a slot's inputs, for combining it one at a time
@@ -312,7 +319,8 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
     } else if (!in_lanes[s]) {
       for (int k = 0; k < row.count[s]; ++k) inputs[k] = row.inputs[k][s];
       const SlotTargets targets{row, s};
-      r = combine(view, inputs, row.count[s], params, params.simd ? &targets : nullptr, rng[s], traced);
+      Rng rng = streams.stream(s);
+      r = combine(view, inputs, row.count[s], params, params.simd ? &targets : nullptr, rng, traced);
     } else {
       // The kept input's sample, placed for the combining pixel, with the lanes' sums.
       static const DiSample kNone{};
@@ -395,8 +403,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     struct Batch {
       ReuseRow row;
       DiReservoir aged[kLaneSlots];
-      RngRow<kLaneSlots> keyed;  // the slots' streams, keyed in lanes
-      Rng rng[kLaneSlots];
+      ReuseStreams streams;
       int64_t previous[kLaneSlots];  // the reprojected pixel, or -1
       NeighbourLanes similar;        // params.simd: whether its surface is similar
     };
@@ -406,7 +413,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
       for (int s = 0; s < slots; ++s) batch.previous[s] = reprojected(first + size_t(s), tile.x0 + s, y);
-      batch.keyed.key(slots, params.seed, first, uint64_t(frame), 0xd2);
+      batch.streams.key(slots, params.seed, first, uint64_t(frame), 0xd2);  // Rng::for_key(seed, pixel, frame, 0xd2)
       if (params.simd) {
         for (int s = 0; s < slots; ++s) {
           batch.similar.set(s, current.surfaces[first + size_t(s)]);
@@ -430,14 +437,13 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
         aged = history[size_t(j)];
         aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));
         if (params.max_sample_age > 0 && aged.y.age > params.max_sample_age) continue;
-        batch.rng[s] = batch.keyed.stream(s);
         batch.row.inputs[0][s] = {&reservoirs[i], &current, i, reservoirs[i].M};
         batch.row.inputs[1][s] = {&aged, &previous, size_t(j), std::min(aged.M, params.history_cap * reservoirs[i].M)};
         batch.row.count[s] = 2;
         history_pixel[i] = int32_t(j);
       }
       if (own_visibility) traced += trace_own_visibility(slots, batch.row);
-      traced += combine_row(view, params, slots, batch.row, batch.rng, first, reservoirs, out);
+      traced += combine_row(view, params, slots, batch.row, batch.streams, first, reservoirs, out);
     }
     rays.add(traced);
   });
@@ -492,15 +498,15 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     const uint64_t b = uint64_t(y / block) * uint64_t(blocks_x) + uint64_t(x / block);
     return Rng::for_key(params.seed, b, uint64_t(frame), 0xd5 + uint64_t(pass)).next_u32();
   };
-  // shared_start: the pixel's block's start (block > 1); rng: the pixel's stream, keyed.
-  auto draw = [&](size_t i, int x, int y, uint32_t shared_start, Rng& rng, Drawn& d) {
+  // shared_start: the pixel's block's start (block > 1); streams: the row's, the pixel's in slot s.
+  auto draw = [&](size_t i, int x, int y, uint32_t shared_start, ReuseStreams& streams, int s, Drawn& d) {
     d.count = 0;
     d.active = surfaces[i].hit() && surfaces[i].roughness() >= params.min_roughness;
     if (!d.active) return;
     const int neighbours =
         boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
     const int max_inputs = 1 + std::clamp(neighbours, 0, kMaxReuseInputs - 1);
-    const uint32_t own_start = rng.next_u32();  // drawn either way: the stream's later numbers stay the same
+    const uint32_t own_start = streams.next_u32(s);  // drawn either way: the stream's later numbers stay the same
     const uint32_t start = block > 1 ? shared_start : own_start;
     for (int k = 1; k < max_inputs; ++k) {
       const glm::ivec2 o = pixel_offsets[(start + uint32_t(k)) % kOffsetCount];
@@ -548,8 +554,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     struct Batch {
       ReuseRow row;
       Drawn drawn[kLaneSlots];
-      RngRow<kLaneSlots> keyed;  // the slots' streams, keyed in lanes
-      Rng rng[kLaneSlots];
+      ReuseStreams streams;
       uint32_t start[kLaneSlots] = {};  // block > 1: each slot's block's start
       NeighbourLanes neighbours;        // params.simd
     };
@@ -563,15 +568,13 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         const int x = tile.x0 + s;
         batch.start[s] = s > 0 && x % block != 0 ? batch.start[s - 1] : block_start(x, y);
       }
-      batch.keyed.key(slots, params.seed, first, uint64_t(frame), 0xd3 + uint64_t(pass));
-      for (int s = 0; s < slots; ++s) {
-        batch.rng[s] = batch.keyed.stream(s);  // Rng::for_key(seed, pixel, frame, 0xd3 + pass)
-        draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.rng[s], batch.drawn[s]);
-      }
+      batch.streams.key(slots, params.seed, first, uint64_t(frame), 0xd3 + uint64_t(pass));  // Rng::for_key
+      for (int s = 0; s < slots; ++s)
+        draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.streams, s, batch.drawn[s]);
       if (params.simd) test_similar(first, slots, batch.drawn, batch.neighbours);
       for (int s = 0; s < slots; ++s)
         select(first + size_t(s), batch.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row);
-      traced += combine_row(view, params, slots, batch.row, batch.rng, first, in, out);
+      traced += combine_row(view, params, slots, batch.row, batch.streams, first, in, out);
     }
     rays.add(traced);
   });
