@@ -5,6 +5,7 @@
 // Also the per-light geometry sampling used by next-event estimation.
 #include <vector>
 
+#include "engine/prefetch.h"
 #include "engine/scene.h"
 #include "engine/tracer.h"
 
@@ -89,9 +90,7 @@ class LightList {
   // Starts loading light `index`'s record (area, point placement; it may span two cache lines) where it is a
   // triangle light: punctual lights are few and stay in cache.
   void prefetch(size_t index) const {
-    if (index >= triangles_.size()) return;
-    const char* record = reinterpret_cast<const char*>(&triangles_[index]);
-    __builtin_prefetch(record), __builtin_prefetch(record + sizeof(TriangleLight) - 1);
+    if (index < triangles_.size()) prefetch_object(triangles_[index]);
   }
   const std::vector<TriangleLight>& triangles() const { return triangles_; }
   const std::vector<PunctualLight>& punctual() const { return punctual_; }

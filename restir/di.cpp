@@ -1,5 +1,6 @@
 #include "restir/di.h"
 
+#include "engine/prefetch.h"
 #include "restir/receiver_lanes.h"
 
 namespace candela {
@@ -62,6 +63,7 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         for (int s = 0; s < slots; ++s) {
           const size_t i = first + size_t(s);
           const DiReservoir& r = reservoirs[i];
+          if (y + 1 < tile.y1) prefetch_object(reservoirs[i + size_t(g.width)]);  // the tile's next row
           lanes.surfaces.set(s, g, i);
           if (g.hit(i) && r.W > 0.0f && di_stored_point(view.lights, r.y))
             lanes.samples.set(s, r.y.point);

@@ -1,6 +1,7 @@
 #include "restir/di_reuse.h"
 
 #include "engine/parallel.h"
+#include "engine/prefetch.h"
 #include "restir/neighbour_lanes.h"
 #include "restir/resample_lanes.h"
 #include "restir/reuse_targets.h"
@@ -513,9 +514,8 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       const int nx = x + o.x, ny = y + o.y;
       if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
       size_t j = size_t(ny) * width + nx;
-      __builtin_prefetch(&surfaces[j]);
-      __builtin_prefetch(&in[j]);
-      __builtin_prefetch(reinterpret_cast<const char*>(&in[j]) + sizeof(DiReservoir) - 1);
+      prefetch_object(surfaces[j]);
+      prefetch_object(in[j]);
       d.pixels[d.count++] = j;
     }
   };
