@@ -69,6 +69,7 @@ LightList::LightList(const Scene& scene)
     if (me.prims.empty()) continue;
     instance_first_light_[i] = int64_t(total);
     total += me.prims.size();
+    if (scene.instances[i].animated) animated_emitters_.push_back(i);
   }
   triangles_.resize(total);
   parallel_for(uint32_t(0), uint32_t(scene.instances.size()), [&](uint32_t i) {
@@ -110,10 +111,20 @@ PunctualLight LightList::to_world(const Scene& scene, const PunctualLight& light
 }
 
 void LightList::update(const Scene& scene) {
-  for (uint32_t i = 0; i < scene.instances.size(); ++i)
-    if (scene.instances[i].animated && instance_first_light_[i] >= 0) place_instance(scene, i);
+  for (uint32_t i : animated_emitters_) place_instance(scene, i);
   for (size_t i = 0; i < punctual_.size(); ++i)
-    if (scene.punctual_lights[i].instance >= 0) punctual_[i] = to_world(scene, scene.punctual_lights[i]);
+    if (punctual_[i].instance >= 0) punctual_[i] = to_world(scene, scene.punctual_lights[i]);
+}
+
+std::vector<std::pair<size_t, size_t>> LightList::movable() const {
+  std::vector<std::pair<size_t, size_t>> ranges;
+  for (uint32_t i : animated_emitters_) {
+    const size_t first = size_t(instance_first_light_[i]);
+    ranges.emplace_back(first, first + mesh_emission_[instance_mesh_[i]].prims.size());
+  }
+  for (size_t i = 0; i < punctual_.size(); ++i)
+    if (punctual_[i].instance >= 0) ranges.emplace_back(triangles_.size() + i, triangles_.size() + i + 1);
+  return ranges;
 }
 
 float LightList::power(size_t index) const {

@@ -3,6 +3,7 @@
 // the triangle, since most glTF emissive textures are black almost everywhere), punctual lights in world
 // space, and the uniform environment. Index space: [0, triangles) triangle lights, then punctual lights.
 // Also the per-light geometry sampling used by next-event estimation.
+#include <utility>
 #include <vector>
 
 #include "engine/prefetch.h"
@@ -84,6 +85,9 @@ class LightList {
   explicit LightList(const Scene& scene);
   // Re-places lights of animated instances after Scene::set_time (O(their lights)).
   void update(const Scene& scene);
+  // The index ranges [first, end) of the lights update() rewrites (those of animated instances, then the
+  // punctual lights attached to an instance); every other light keeps its geometry and power.
+  std::vector<std::pair<size_t, size_t>> movable() const;
 
   size_t size() const { return triangles_.size() + punctual_.size(); }
   size_t triangle_count() const { return triangles_.size(); }
@@ -114,6 +118,7 @@ class LightList {
   std::vector<MeshEmission> mesh_emission_;
   std::vector<uint32_t> instance_mesh_;
   std::vector<int64_t> instance_first_light_;  // per instance: index of its first triangle light, or -1
+  std::vector<uint32_t> animated_emitters_;    // the animated instances with triangle lights
   std::vector<TriangleLight> triangles_;
   std::vector<PunctualLight> punctual_;
   vec3 environment_{0.0f};

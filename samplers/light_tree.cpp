@@ -274,6 +274,22 @@ LightTreeSampler::LightTreeSampler(const LightList& lights) {
   parent_.reserve(wide_nodes);
   subtree_lights_.reserve(wide_nodes);
   collapse(binary, 0, uint32_t(binary.size()), kNoSlot, 0);
+  mark_moving(lights);
+}
+
+// Each movable light's path to the root, slot by slot; a path stops where an earlier one already went up.
+void LightTreeSampler::mark_moving(const LightList& lights) {
+  moving_slots_.assign(nodes_.size(), 0);
+  for (const auto& [first, end] : lights.movable()) {
+    for (size_t i = first; i < end; ++i) {
+      for (uint32_t ref = slot_of_[i]; ref != kNoSlot; ref = parent_[ref / kTreeWidth]) {
+        uint8_t& bits = moving_slots_[ref / kTreeWidth];
+        const uint8_t bit = uint8_t(1u << (ref % kTreeWidth));
+        if (bits & bit) break;
+        bits |= bit;
+      }
+    }
+  }
 }
 
 // The wide node over the binary subtree at `node` (open_slots), with its children's exact bounds from the
@@ -415,20 +431,27 @@ float LightTreeSampler::pmf(const ShadingContext& ctx, uint32_t index) const {
 void LightTreeSampler::refit(const LightList& lights) {
   if (nodes_.empty()) return;
   std::atomic<bool> fits = true;
-  root_ = refit(lights, 0, fits);
+  const bool whole = subtree_bounds_.empty();
+  if (whole) subtree_bounds_.resize(nodes_.size());
+  root_ = refit(lights, 0, whole, fits);
   // A light moved so far (or a cluster grew so much) that its radius no longer fits the nodes' scale.
   if (!fits) *this = LightTreeSampler(lights);
 }
 
 // A node's children take their lights' new bounds or their subtrees' merged ones (subtrees of more than
-// kParallelGrain lights in parallel); returns the merge of all of them.
-LightBounds LightTreeSampler::refit(const LightList& lights, uint32_t node, std::atomic<bool>& fits) {
+// kParallelGrain lights in parallel); a slot without moving lights keeps its bounds and lends its subtree's
+// remembered merge. Returns the merge of all of them, in slot order as the first refit merged them.
+LightBounds LightTreeSampler::refit(const LightList& lights, uint32_t node, bool whole, std::atomic<bool>& fits) {
   Node& n = nodes_[node];
   LightBounds slot[kTreeWidth];
   auto one = [&](uint32_t k) {
     const uint32_t child = n.child[k];
-    slot[k] = child & kLeaf ? light_bounds(lights, child & ~kLeaf) : refit(lights, child, fits);
-    if (!n.bounds.set(int(k), slot[k], radius_scale_)) fits = false;
+    const bool moves = whole || (moving_slots_[node] >> k & 1u);
+    if (child & kLeaf)
+      slot[k] = light_bounds(lights, child & ~kLeaf);
+    else
+      slot[k] = moves ? refit(lights, child, whole, fits) : subtree_bounds_[child];
+    if (moves && !n.bounds.set(int(k), slot[k], radius_scale_)) fits = false;
   };
   const uint32_t count = uint32_t(n.count());
   if (subtree_lights_[node] > kParallelGrain)
@@ -437,6 +460,7 @@ LightBounds LightTreeSampler::refit(const LightList& lights, uint32_t node, std:
     for (uint32_t k = 0; k < count; ++k) one(k);
   LightBounds all = slot[0];
   for (uint32_t k = 1; k < count; ++k) all = merge(all, slot[k]);
+  subtree_bounds_[node] = all;
   return all;
 }
 

@@ -51,8 +51,10 @@ class LightTreeSampler {
   // n samples for one shading point (out[k] = sample(ctx, u[k]) exactly), each node's weights computed once.
   void sample_many(const ShadingContext& ctx, const vec2* u, SampledLight* out, int n) const;
   float pmf(const ShadingContext& ctx, uint32_t index) const;
-  // Recomputes every node's bounds from the lights' current geometry and power (same topology), subtrees
-  // in parallel. O(n). Lights without power when the tree was built stay out of it (pmf 0) until a rebuild.
+  // Recomputes the nodes' bounds from the lights' current geometry (same topology, the powers of the
+  // build). The first refit visits every node (subtrees in parallel, O(n)); later ones only the nodes above
+  // the lights LightList::movable() names, so they cost O(moving lights x depth). Lights without power when
+  // the tree was built stay out of it (pmf 0) until a rebuild.
   void refit(const LightList& lights);
 
   size_t node_count() const { return nodes_.size(); }
@@ -60,7 +62,8 @@ class LightTreeSampler {
   // Bytes the sampler holds (nodes; parent, subtree and slot references), for the bench's bytes per light.
   size_t memory_bytes() const {
     return nodes_.capacity() * sizeof(Node) +
-           (parent_.capacity() + subtree_lights_.capacity() + slot_of_.capacity()) * sizeof(uint32_t);
+           (parent_.capacity() + subtree_lights_.capacity() + slot_of_.capacity()) * sizeof(uint32_t) +
+           subtree_bounds_.capacity() * sizeof(LightBounds) + moving_slots_.capacity();
   }
 
  private:
@@ -81,8 +84,11 @@ class LightTreeSampler {
   // returns the new node's index. `up` is the parent's slot reference (node * 8 + slot).
   uint32_t collapse(const std::vector<light_tree_detail::BinaryNode>& binary, uint32_t node, uint32_t end, uint32_t up,
                     int depth);
-  // Returns the merged bounds of the node's children; `fits` turns false if a radius left the half range.
-  LightBounds refit(const LightList& lights, uint32_t node, std::atomic<bool>& fits);
+  // Returns the merged bounds of the node's children, refitting every slot (`whole`) or the moving ones;
+  // `fits` turns false if a radius left the half range.
+  LightBounds refit(const LightList& lights, uint32_t node, bool whole, std::atomic<bool>& fits);
+  // Marks the slots on the paths from the lights LightList::update() may move up to the root.
+  void mark_moving(const LightList& lights);
   // The weights a level chooses a child by: the importances of the node's children for the shading point,
   // or, where all are zero (a node's bounds are looser than its children's), their powers, or 1 for each
   // child; so no path is a dead end and pmf sums to 1. Child k is taken with probability weight[k] / sum.
@@ -105,9 +111,11 @@ class LightTreeSampler {
   LightBounds root_;           // bounds of all finite lights
   float radius_scale_ = 1.0f;  // of the nodes' radii (WideBounds)
   InfiniteLightChoice infinite_;
-  std::vector<uint32_t> parent_;          // per node: the slot reference (node * 8 + slot) that points to it
-  std::vector<uint32_t> subtree_lights_;  // per node: lights below it (refit's parallel split)
-  std::vector<uint32_t> slot_of_;         // per light: its slot reference (none for infinite and powerless lights)
+  std::vector<uint32_t> parent_;             // per node: the slot reference (node * 8 + slot) that points to it
+  std::vector<uint32_t> subtree_lights_;     // per node: lights below it (refit's parallel split)
+  std::vector<uint32_t> slot_of_;            // per light: its slot reference (none for infinite and powerless lights)
+  std::vector<LightBounds> subtree_bounds_;  // per node: its children merged, as of the last refit (none before)
+  std::vector<uint8_t> moving_slots_;        // per node: bit k set where child k holds a light that may move
   int max_depth_ = 0;
 };
 

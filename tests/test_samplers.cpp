@@ -148,6 +148,38 @@ TEST(Samplers, TreeAfterRefitFollowsMovingLights) {
   check_sampler_at(tree, lights, std::vector<ShadingContext>(points.begin(), points.begin() + 2), 200000);
 }
 
+// A refit after the first visits only the paths above the cars' lights (LightList::movable); the tree it gives
+// equals one whose only refit saw the same placement: every pmf the same to the bit at points around the cars
+// and through the city, the samples too. Fails if a moving light's path were left stale.
+TEST(Samplers, TreeLaterRefitsEqualAWholeOne) {
+  Scene scene = make_city_scene(7);
+  LightList lights(scene);
+  LightTreeSampler twice(lights), once(lights);
+  scene.set_time(1.0f);
+  lights.update(scene);
+  twice.refit(lights);
+  scene.set_time(3.0f);
+  lights.update(scene);
+  twice.refit(lights);
+  once.refit(lights);
+  std::vector<ShadingContext> points = shading_points(scene, 3, 29);
+  for (size_t i = 0; i < scene.instances.size() && points.size() < 6; i += 9)
+    if (scene.instances[i].animated)
+      points.push_back({vec3(scene.instances[i].transform[3]) + vec3(1.0f, 0.3f, 2.0f), vec3(0.0f, 1.0f, 0.0f)});
+  ASSERT_EQ(points.size(), 6u);
+  Rng rng(9, 9);
+  for (size_t k = 0; k < points.size(); ++k) {
+    size_t differ = 0;
+    for (uint32_t i = 0; i < lights.size(); ++i) differ += twice.pmf(points[k], i) != once.pmf(points[k], i);
+    EXPECT_EQ(differ, 0u) << "point " << k;
+    for (int s = 0; s < 64; ++s) {
+      const vec2 u(rng.next_float(), rng.next_float());
+      const SampledLight a = twice.sample(points[k], u), b = once.sample(points[k], u);
+      EXPECT_TRUE(a.index == b.index && a.pmf == b.pmf) << "point " << k << " sample " << s;
+    }
+  }
+}
+
 // One ceiling light of a 20 m room flies 200 km away: its ancestors' spheres outgrow the half-precision radii
 // at the scale the build chose (WideBounds), so the refit rebuilds the tree, which keeps every light, the far
 // one included. Fails if the refit left the slots that no longer fit empty.
