@@ -5,8 +5,8 @@
 For each value and seed, the shot's frames 0..LAST render without a denoiser and with pixel-centre rays
 (`candela render --script`, the setting overridden in a copy of the script); at each evaluated frame the image's
 relMSE is taken against a converged reference of the same frame (`direct` with the light tree, 1,024 spp, seed
-99; for `restir`, `pt` with the power sampler), and the estimator time of every frame after the first (all stages
-after the G-buffer). Prints the mean relMSE over evaluated frames and seeds (and its median: one firefly can rule
+99; for `restir`, `pt` with the power sampler), and the estimator time of every frame after the first (every stage
+but the G-buffer: scene_update counts, since the light tree's refit is part of it). Prints the mean relMSE over evaluated frames and seeds (and its median: one firefly can rule
 the mean), the median time and their product (lower is better at equal time). Seeds run in the outer loop, values
 in the inner, so that the machine's drift falls on every value alike.
 
@@ -100,7 +100,7 @@ def main():
             subprocess.run([CANDELA, "render", "--script", path, "--frames", f"0:{args.last}", "-q"], check=True)
             for frame in json.load(open(f"{stats}_0-{args.last}.json"))[1:]:
                 times[value].append(
-                    sum(s["ms"] for s in frame["stages"] if s["name"] not in ("scene_update", "gbuffer")))
+                    sum(s["ms"] for s in frame["stages"] if s["name"] != "gbuffer"))
             errors[value] += [rel_mse(images % f, ref_pattern % f) for f in frames]
     for value in values:
         rel, ms = statistics.mean(errors[value]), statistics.median(times[value])
