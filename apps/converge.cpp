@@ -114,9 +114,9 @@ std::vector<ConvergePoint> run_convergence(const Scene& scene, const ConvergeMet
 LightSamplerKind reference_light_sampler(const ConvergeMethod& method, const RenderSettings& base) {
   RenderSettings settings = base;
   method.configure(settings);
-  if (settings.method != Method::Direct && settings.method != Method::PathTrace) return settings.light_sampler;
-  const bool tree_like =
-      settings.light_sampler == LightSamplerKind::Tree || settings.light_sampler == LightSamplerKind::Exhaustive;
+  const LightSamplerKind kind = light_sampler_for(settings);
+  if (settings.method != Method::Direct && settings.method != Method::PathTrace) return kind;
+  const bool tree_like = kind == LightSamplerKind::Tree || kind == LightSamplerKind::Exhaustive;
   return tree_like ? LightSamplerKind::Power : LightSamplerKind::Tree;
 }
 

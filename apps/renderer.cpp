@@ -1,5 +1,7 @@
 #include "apps/renderer.h"
 
+#include <algorithm>
+
 #include "engine/check.h"
 #include "engine/parallel.h"
 #include "engine/path_batch.h"
@@ -7,6 +9,7 @@
 namespace candela {
 
 AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& lights) {
+  CHECK(kind != LightSamplerKind::Auto);  // resolved by light_sampler_for first
   switch (kind) {
     case LightSamplerKind::Uniform: return UniformLightSampler(lights);
     case LightSamplerKind::Tree: return LightTreeSampler(lights);
@@ -16,10 +19,18 @@ AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& light
   }
 }
 
+LightSamplerKind light_sampler_for(const RenderSettings& settings) {
+  if (settings.light_sampler != LightSamplerKind::Auto) return settings.light_sampler;
+  return settings.method == Method::RestirDi ? LightSamplerKind::Tree : LightSamplerKind::Power;
+}
+
 // ReSTIR's settings from the renderer's.
 static RestirSettings restir_settings(const RenderSettings& s) {
   RestirSettings r;
   r.di = s.di;
+  // Auto's tree is the tree with region light tiles (one per screen block, whatever the count asked).
+  if (s.light_sampler == LightSamplerKind::Auto && s.method == Method::RestirDi)
+    r.di.light_tiles = std::max(r.di.light_tiles, 1);
   r.di_reuse = s.di_reuse;
   r.gi_reuse = s.gi_reuse;
   r.gi.max_depth = s.max_depth;
@@ -35,7 +46,7 @@ Renderer::Renderer(Scene scene, const RenderSettings& settings)
       tracer_(std::make_unique<Tracer>(scene_)),
       lights_(scene_),
       prev_lights_(scene_.animated() ? lights_ : LightList()),
-      sampler_(make_light_sampler(settings.light_sampler, lights_)),
+      sampler_(make_light_sampler(light_sampler_for(settings), lights_)),
       restir_(restir_settings(settings)),
       denoiser_(settings.denoise) {
   CHECK(settings.width > 0 && settings.height > 0 && settings.spp > 0);
@@ -65,7 +76,7 @@ void Renderer::update_scene(float time, const CameraDesc& camera, FrameStats& st
       // Powers changed: emission averages, the power table and the tree's bounds all depend on them.
       // Rebuilt every frame, so a frame's lights depend only on its time (shards match single runs).
       lights_ = LightList(scene_);
-      sampler_ = make_light_sampler(settings_.light_sampler, lights_);
+      sampler_ = make_light_sampler(light_sampler_for(settings_), lights_);
       // An emitter scaled under the emission threshold leaves the list: light indices in history are void.
       if (lights_.size() != prev_lights_.size()) restir_.forget_light_history();
     } else {
@@ -184,7 +195,8 @@ void Renderer::reset_history() {
 
 void Renderer::apply_settings(const RenderSettings& settings) {
   CHECK(settings.width > 0 && settings.height > 0 && settings.spp > 0);
-  if (settings.light_sampler != settings_.light_sampler) sampler_ = make_light_sampler(settings.light_sampler, lights_);
+  if (light_sampler_for(settings) != light_sampler_for(settings_))
+    sampler_ = make_light_sampler(light_sampler_for(settings), lights_);
   settings_ = settings;
   restir_ = Restir(restir_settings(settings));
   denoiser_ = Denoiser(settings.denoise);

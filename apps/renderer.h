@@ -30,7 +30,8 @@ namespace candela {
 // resampled importance sampling at the G-buffer's points, reused across pixels and frames; restir: restir-di
 // plus ReSTIR GI for the indirect light (paths up to max_depth).
 enum class Method { PathTrace, Direct, RestirDi, Restir };
-enum class LightSamplerKind { Uniform, Power, Tree, Exhaustive };
+// Auto: the sampler measured best for the method (light_sampler_for).
+enum class LightSamplerKind { Auto, Uniform, Power, Tree, Exhaustive };
 
 // ReSTIR GI's reuse defaults: ReSTIR DI's, plus no reuse on surfaces smoother than roughness 0.2 and
 // samples at most 30 frames old, and visibility in the MIS weights (unbiased: the Jacobian rejection is off).
@@ -62,7 +63,7 @@ struct RenderSettings {
   int max_depth = 8;  // path tracer bounces (1 = direct light only)
   uint64_t seed = 1;
   Method method = Method::PathTrace;
-  LightSamplerKind light_sampler = LightSamplerKind::Power;
+  LightSamplerKind light_sampler = LightSamplerKind::Auto;
   bool accumulate = true;                          // progressive accumulation while camera and scene stay still
   bool jitter = true;                              // G-buffer rays through jittered positions (false: pixel centres)
   SampleSequence sampler = SampleSequence::Sobol;  // direct and pt: Sobol, ZSobol or independent numbers
@@ -142,6 +143,10 @@ class Renderer {
   mutable Image noisy_;  // noisy_image()'s buffer
 };
 
+// The sampler settings.light_sampler names, Auto resolved by the method: the light tree for restir-di (whose
+// candidates then read region light tiles), power for the others. Chosen by equal-time error on still and
+// moving shots (docs/restir.md, "Region light tiles"); restir's GI paths were not measured with the tree.
+LightSamplerKind light_sampler_for(const RenderSettings& settings);
 AnyLightSampler make_light_sampler(LightSamplerKind kind, const LightList& lights);
 
 }  // namespace candela

@@ -11,7 +11,8 @@ const std::map<std::string, Method>& method_names() {
 }
 
 const std::map<std::string, LightSamplerKind>& light_sampler_names() {
-  static const std::map<std::string, LightSamplerKind> names = {{"uniform", LightSamplerKind::Uniform},
+  static const std::map<std::string, LightSamplerKind> names = {{"auto", LightSamplerKind::Auto},
+                                                                {"uniform", LightSamplerKind::Uniform},
                                                                 {"power", LightSamplerKind::Power},
                                                                 {"tree", LightSamplerKind::Tree},
                                                                 {"exhaustive", LightSamplerKind::Exhaustive}};

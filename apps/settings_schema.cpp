@@ -178,8 +178,9 @@ void append_frame_rows(std::vector<Setting>& rows) {
   rows.back().scope = kEverywhere & ~kConverge;
   rows.push_back(choice_row(
       "light_sampler", g, light_sampler_names(), [](auto& s) -> auto& { return s.light_sampler; },
-      "Light selection: uniform, power (alias table), tree (light BVH), exhaustive (every light's "
-      "importance; slow oracle)",
+      "Light selection: auto (restir-di: tree with region light tiles, as --light-sampler tree "
+      "--di-light-tiles 1; the other methods: power), uniform, power (alias table), tree (light BVH), "
+      "exhaustive (every light's importance; slow oracle)",
       kAllMethods));
   rows.push_back(choice_row(
       "sampler", g, sampler_names(), [](auto& s) -> auto& { return s.sampler; },

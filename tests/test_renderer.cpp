@@ -46,6 +46,35 @@ TEST(Renderer, AppliedSettingsEqualANewRenderer) {
   }
 }
 
+// The default light sampler, auto, is the light tree with region light tiles for restir-di and power for the
+// other methods: frames bit for bit those of the explicit settings, also after a change of method alone
+// (apply_settings). Fails if auto resolved otherwise, or if a method change kept the last method's sampler.
+TEST(Renderer, AutoLightSamplerFollowsTheMethod) {
+  const Scene scene = make_manylights_scene(64, 7);
+  const RenderSettings direct = testing::settings({{"width", 48}, {"height", 27}, {"method", "direct"}});
+  const RenderSettings restir = testing::settings({{"method", "restir-di"}}, direct);
+  ASSERT_EQ(direct.light_sampler, LightSamplerKind::Auto);
+  const RenderSettings direct_power = testing::settings({{"light_sampler", "power"}}, direct);
+  const RenderSettings restir_tree = testing::settings({{"light_sampler", "tree"}, {"di_light_tiles", 1}}, restir);
+  const RenderSettings restir_power = testing::settings({{"light_sampler", "power"}}, restir);
+  auto frames = [&](Renderer& r, int first, int last) {
+    for (int f = first; f <= last; ++f) testing::render_checked(r, f, 0.0f, scene.default_camera());
+    return r.image().pixels;
+  };
+  auto fresh = [&](const RenderSettings& s) {
+    Renderer r(scene, s);
+    return frames(r, 0, 2);
+  };
+  EXPECT_EQ(fresh(direct), fresh(direct_power));
+  EXPECT_EQ(fresh(restir), fresh(restir_tree));
+  EXPECT_NE(fresh(restir), fresh(restir_power));
+  Renderer changed(scene, direct);
+  frames(changed, 0, 2);
+  changed.apply_settings(restir);
+  Renderer from_start(scene, restir_tree);
+  EXPECT_EQ(frames(changed, 3, 5), frames(from_start, 3, 5));
+}
+
 }  // namespace
 }  // namespace candela
 
