@@ -347,23 +347,27 @@ void LightTreeSampler::child_weights(const Node& node, const ShadingContext& ctx
   while (out.weight[out.last] <= 0.0f) --out.last;
 }
 
+// One step of a descent: the child whose share of [0, sum) holds u * sum (child_weights' values), found without
+// branches: k shares end at or before it. A child of weight 0 ends where the one before it does, so it is never
+// chosen; the last child with weight takes what rounding leaves over. The 48-bit uniform is rescaled into the
+// child's interval so that it serves the next level too; pmf takes the child's probability.
+int LightTreeSampler::choose_child(const ChildWeights& w, double& u, float& pmf) {
+  const double t = u * w.sum;
+  int k = 0;
+  for (int j = 0; j < w.last; ++j) k += t >= w.cumulative[j];
+  u = std::min((t - (k > 0 ? w.cumulative[k - 1] : 0.0)) / w.weight[k], 1.0 - 0x1p-53);
+  pmf *= float(w.weight[k] / w.sum);
+  return k;
+}
+
 // Stochastic descent from the root: at each node, a child with probability weight / sum (weights_of(node),
-// child_weights' values); the 48-bit uniform (its share left after the infinite lights) is rescaled into the
-// chosen child's interval so that it serves the next level too.
+// choose_child); the 48-bit uniform starts as its share left after the infinite lights.
 template <class WeightsOf>
 SampledLight LightTreeSampler::descend(double u, WeightsOf&& weights_of) const {
   float pmf = 1.0f - infinite_.probability();
   for (uint32_t node = 0;;) {
     const Node& n = nodes_[node];
-    const ChildWeights& w = weights_of(node);
-    // The child whose share of [0, sum) holds u * sum, found without branches: k shares end at or before
-    // it. A child of weight 0 ends where the one before it does, so it is never chosen; the last child with
-    // weight takes what rounding leaves over.
-    const double t = u * w.sum;
-    int k = 0;
-    for (int j = 0; j < w.last; ++j) k += t >= w.cumulative[j];
-    u = std::min((t - (k > 0 ? w.cumulative[k - 1] : 0.0)) / w.weight[k], 1.0 - 0x1p-53);
-    pmf *= float(w.weight[k] / w.sum);
+    const int k = choose_child(weights_of(node), u, pmf);
     if (n.child[k] & kLeaf) return {n.child[k] & ~kLeaf, pmf};
     node = n.child[k];
   }
@@ -381,29 +385,46 @@ SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const 
   });
 }
 
-// The descents share one shading point, so a node's weights are computed once for all of them (up to 32
-// nodes are remembered; past that the last entry is reused). Same results as n calls of sample().
+// The descents share one shading point, so they go down together: the group of descents that reached a node
+// takes one computation of its weights, each descent its step (as descend() takes it: the same results), and
+// the group splits by child, in order, into the other buffer, where each child's part goes on down with its
+// part of this buffer as scratch. Cost: one child_weights per node any descent visits.
 void LightTreeSampler::sample_many(const ShadingContext& ctx, const vec2* u2, SampledLight* out, int n) const {
-  constexpr int kRemembered = 32;
-  struct Remembered {
-    uint32_t node;
-    ChildWeights weights;
-  };
-  Remembered remembered[kRemembered];
-  int used = 0;
-  auto weights_of = [&](uint32_t node) -> const ChildWeights& {
-    for (int i = 0; i < used; ++i)
-      if (remembered[i].node == node) return remembered[i].weights;
-    Remembered& r = remembered[used < kRemembered ? used++ : kRemembered - 1];
-    r.node = node;
-    child_weights(nodes_[node], ctx, r.weights, true);
-    return r.weights;
-  };
+  thread_local std::vector<Descent> group, scratch;
+  group.clear();
   const bool reachable = !nodes_.empty() && root_.importance(ctx) > 0.0f;
   for (int k = 0; k < n; ++k) {
     double u = wide_uniform(u2[k]);
     if (infinite_.choose(u, out[k])) continue;
-    out[k] = reachable ? descend(u, weights_of) : SampledLight{};
+    out[k] = {};
+    if (reachable) group.push_back({u, 1.0f - infinite_.probability(), k, 0});
+  }
+  scratch.resize(group.size());
+  if (!group.empty()) descend_together(ctx, 0, group.data(), scratch.data(), int(group.size()), out);
+}
+
+void LightTreeSampler::descend_together(const ShadingContext& ctx, uint32_t node, Descent* group, Descent* scratch,
+                                        int count, SampledLight* out) const {
+  const Node& n = nodes_[node];
+  ChildWeights w;
+  child_weights(n, ctx, w, true);
+  int first[kTreeWidth + 1] = {};
+  for (int d = 0; d < count; ++d) {
+    Descent& descent = group[d];
+    descent.child = choose_child(w, descent.u, descent.pmf);
+    ++first[descent.child + 1];
+  }
+  for (int k = 0; k < kTreeWidth; ++k) first[k + 1] += first[k];
+  int next[kTreeWidth];
+  std::copy(first, first + kTreeWidth, next);
+  for (int d = 0; d < count; ++d) scratch[next[group[d].child]++] = group[d];
+  for (int k = 0; k < kTreeWidth; ++k) {
+    if (first[k] == first[k + 1]) continue;
+    if (n.child[k] & kLeaf) {
+      for (int d = first[k]; d < first[k + 1]; ++d) out[scratch[d].index] = {n.child[k] & ~kLeaf, scratch[d].pmf};
+    } else {
+      descend_together(ctx, n.child[k], scratch + first[k], group + first[k], first[k + 1] - first[k], out);
+    }
   }
 }
 

@@ -104,8 +104,18 @@ class LightTreeSampler {
     for (size_t line = 0; line < sizeof(Node); line += 64)
       __builtin_prefetch(reinterpret_cast<const char*>(&node) + line);
   }
+  static int choose_child(const ChildWeights& w, double& u, float& pmf);
   template <class WeightsOf>
   SampledLight descend(double u, WeightsOf&& weights_of) const;
+  // A descent of sample_many: its uniform and pmf so far, its place in the output, the child it took last.
+  struct Descent {
+    double u;
+    float pmf;
+    int index;
+    int child;
+  };
+  void descend_together(const ShadingContext& ctx, uint32_t node, Descent* group, Descent* scratch, int count,
+                        SampledLight* out) const;
 
   std::vector<Node> nodes_;
   LightBounds root_;           // bounds of all finite lights
