@@ -116,6 +116,7 @@ class LightTiles {
       uv[size_t(e)] = vec2(rng.next_float(), rng.next_float());
     }
     sample_lights(sampler, contexts_[size_t(t)], u.data(), chosen.data(), size_);
+    for (int e = 0; e < size_; ++e) view.lights.prefetch(chosen[size_t(e)].index);  // random records: misses
     DiLightCandidate* out = &entries_[size_t(t) * size_t(size_)];
     for (int e = 0; e < size_; ++e)
       out[e] = di_light_candidate(view.scene, view.lights, chosen[size_t(e)], uv[size_t(e)]);

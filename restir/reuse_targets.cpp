@@ -13,14 +13,22 @@ namespace {
 // (PlacedSample::at in di_reuse.cpp): the point it stores where its own frame placed them alike, or where it
 // is a surface point; otherwise the point its uniforms give on its light as `lights` placed it. Inactive
 // where the input has no sample and for punctual lights (left to the scalar path).
+// Whether set_placed places input `in`'s sample anew on `lights`: a triangle light's sample from a frame whose
+// lights are another list. Its light record is then read, which on `city` (104k lights) misses the cache:
+// prefetch_placed starts those loads for a whole row first.
+bool placed_anew(const DiReuseInput& in, const LightList& lights) {
+  const DiSample& y = in.reservoir->y;
+  return in.reservoir->W > 0.0f && y.light < lights.triangle_count() && &in.domain->lights != &lights;
+}
+void prefetch_placed(const DiReuseInput& in, const LightList& lights) {
+  if (placed_anew(in, lights)) lights.prefetch(in.reservoir->y.light);
+}
 void set_placed(const Scene& scene, const DiReuseInput& in, const LightList& lights, int s, CandidateLanes& plane) {
   const DiSample& y = in.reservoir->y;
-  if (in.reservoir->W <= 0.0f)
-    plane.clear(s);
-  else if (y.light == kSurfacePointSample || (&in.domain->lights == &lights && y.light < lights.triangle_count()))
-    plane.set(s, y.point);
-  else if (y.light < lights.triangle_count())
+  if (placed_anew(in, lights))
     plane.set(s, lights.triangle_point(scene, y.light, y.uv));
+  else if (in.reservoir->W > 0.0f && (y.light == kSurfacePointSample || y.light < lights.triangle_count()))
+    plane.set(s, y.point);
   else
     plane.clear(s);
 }
@@ -39,6 +47,9 @@ struct Planes {
 // sample placed in plane k (inactive where the slot has no input k), all planes in one call.
 void targets_at_combiners(const Scene& scene, const DiDomain& here, int slots, int max_count, ReuseRow& row,
                           Planes& planes) {
+  for (int k = 1; k < max_count; ++k)
+    for (int s = 0; s < slots; ++s)
+      if (k < row.count[s]) prefetch_placed(row.inputs[k][s], here.lights);
   for (int s = 0; s < slots; ++s) planes.surfaces.set(s, here.surfaces[row.count[s] > 0 ? row.inputs[0][s].pixel : 0]);
   for (int k = 1; k < max_count; ++k)
     for (int s = 0; s < slots; ++s) {
@@ -82,6 +93,8 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
       planes.surfaces.set(s, has ? in.domain->surfaces[in.pixel] : PackedSurface{});
     }
     if (own_placed_by != &domain->lights) {
+      for (int s = 0; s < slots; ++s)
+        if (row.count[s] > 1) prefetch_placed(row.inputs[0][s], domain->lights);
       for (int s = 0; s < slots; ++s) {
         if (row.count[s] > 1)
           set_placed(view.scene, row.inputs[0][s], domain->lights, s, planes.own);

@@ -350,13 +350,12 @@ void LightTreeSampler::child_weights(const Node& node, const ShadingContext& ctx
 // One step of a descent: the child whose share of [0, sum) holds u * sum (child_weights' values), found without
 // branches: k shares end at or before it. A child of weight 0 ends where the one before it does, so it is never
 // chosen; the last child with weight takes what rounding leaves over. The 48-bit uniform is rescaled into the
-// child's interval so that it serves the next level too; pmf takes the child's probability.
-int LightTreeSampler::choose_child(const ChildWeights& w, double& u, float& pmf) {
+// child's interval so that it serves the next level too. The child's probability is float(weight / sum).
+int LightTreeSampler::choose_child(const ChildWeights& w, double& u) {
   const double t = u * w.sum;
   int k = 0;
   for (int j = 0; j < w.last; ++j) k += t >= w.cumulative[j];
   u = std::min((t - (k > 0 ? w.cumulative[k - 1] : 0.0)) / w.weight[k], 1.0 - 0x1p-53);
-  pmf *= float(w.weight[k] / w.sum);
   return k;
 }
 
@@ -367,7 +366,9 @@ SampledLight LightTreeSampler::descend(double u, WeightsOf&& weights_of) const {
   float pmf = 1.0f - infinite_.probability();
   for (uint32_t node = 0;;) {
     const Node& n = nodes_[node];
-    const int k = choose_child(weights_of(node), u, pmf);
+    const ChildWeights& w = weights_of(node);
+    const int k = choose_child(w, u);
+    pmf *= float(w.weight[k] / w.sum);
     if (n.child[k] & kLeaf) return {n.child[k] & ~kLeaf, pmf};
     node = n.child[k];
   }
@@ -408,10 +409,13 @@ void LightTreeSampler::descend_together(const ShadingContext& ctx, uint32_t node
   const Node& n = nodes_[node];
   ChildWeights w;
   child_weights(n, ctx, w, true);
+  float probability[kTreeWidth];  // the children's, once for the group
+  for (int k = 0; k <= w.last; ++k) probability[k] = float(w.weight[k] / w.sum);
   int first[kTreeWidth + 1] = {};
   for (int d = 0; d < count; ++d) {
     Descent& descent = group[d];
-    descent.child = choose_child(w, descent.u, descent.pmf);
+    descent.child = choose_child(w, descent.u);
+    descent.pmf *= probability[descent.child];
     ++first[descent.child + 1];
   }
   for (int k = 0; k < kTreeWidth; ++k) first[k + 1] += first[k];

@@ -104,7 +104,7 @@ class LightTreeSampler {
     for (size_t line = 0; line < sizeof(Node); line += 64)
       __builtin_prefetch(reinterpret_cast<const char*>(&node) + line);
   }
-  static int choose_child(const ChildWeights& w, double& u, float& pmf);
+  static int choose_child(const ChildWeights& w, double& u);
   template <class WeightsOf>
   SampledLight descend(double u, WeightsOf&& weights_of) const;
   // A descent of sample_many: its uniform and pmf so far, its place in the output, the child it took last.
