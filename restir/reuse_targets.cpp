@@ -9,10 +9,6 @@ namespace candela {
 
 namespace {
 
-// Slot s of `plane`: input `in`'s sample as receivers whose frame placed the lights as `lights` did see it
-// (PlacedSample::at in di_reuse.cpp): the point it stores where its own frame placed them alike, or where it
-// is a surface point; otherwise the point its uniforms give on its light as `lights` placed it. Inactive
-// where the input has no sample and for punctual lights (left to the scalar path).
 // Whether set_placed places input `in`'s sample anew on `lights`: a triangle light's sample from a frame whose
 // lights are another list. Its light record is then read, which on `city` (104k lights) misses the cache:
 // prefetch_placed starts those loads for a whole row first.
@@ -23,6 +19,11 @@ bool placed_anew(const DiReuseInput& in, const LightList& lights) {
 void prefetch_placed(const DiReuseInput& in, const LightList& lights) {
   if (placed_anew(in, lights)) lights.prefetch(in.reservoir->y.light);
 }
+
+// Slot s of `plane`: input `in`'s sample as receivers whose frame placed the lights as `lights` did see it
+// (PlacedSample::at in di_reuse.cpp): the point it stores where its own frame placed them alike, or where it
+// is a surface point; otherwise the point its uniforms give on its light as `lights` placed it. Inactive
+// where the input has no sample and for punctual lights (left to the scalar path).
 void set_placed(const Scene& scene, const DiReuseInput& in, const LightList& lights, int s, CandidateLanes& plane) {
   const DiSample& y = in.reservoir->y;
   if (placed_anew(in, lights))

@@ -51,10 +51,10 @@ class LightTreeSampler {
   // n samples for one shading point (out[k] = sample(ctx, u[k]) exactly), each node's weights computed once.
   void sample_many(const ShadingContext& ctx, const vec2* u, SampledLight* out, int n) const;
   float pmf(const ShadingContext& ctx, uint32_t index) const;
-  // Recomputes the nodes' bounds from the lights' current geometry (same topology, the powers of the
-  // build). The first refit visits every node (subtrees in parallel, O(n)); later ones only the nodes above
-  // the lights LightList::movable() names, so they cost O(moving lights x depth). Lights without power when
-  // the tree was built stay out of it (pmf 0) until a rebuild.
+  // Recomputes the nodes' bounds from the lights' current placement (same topology; changed powers rebuild the
+  // tree instead, Renderer::update_scene). The first refit visits every node (subtrees in parallel, O(n)); later ones
+  // only the nodes above the lights LightList::movable() names, so they cost O(moving lights x depth). Lights without
+  // power when the tree was built stay out of it (pmf 0) until a rebuild.
   void refit(const LightList& lights);
 
   size_t node_count() const { return nodes_.size(); }
