@@ -359,14 +359,18 @@ int LightTreeSampler::choose_child(const ChildWeights& w, double& u) {
   return k;
 }
 
-// Stochastic descent from the root: at each node, a child with probability weight / sum (weights_of(node),
-// choose_child); the 48-bit uniform starts as its share left after the infinite lights.
-template <class WeightsOf>
-SampledLight LightTreeSampler::descend(double u, WeightsOf&& weights_of) const {
+// A stochastic descent from the root: at each node, a child with probability weight / sum (choose_child); the
+// 48-bit uniform starts as its share left after the infinite lights.
+SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const {
+  double u = wide_uniform(u2);
+  SampledLight chosen;
+  if (infinite_.choose(u, chosen)) return chosen;
+  if (nodes_.empty() || root_.importance(ctx) <= 0.0f) return {};
   float pmf = 1.0f - infinite_.probability();
+  ChildWeights w;
   for (uint32_t node = 0;;) {
     const Node& n = nodes_[node];
-    const ChildWeights& w = weights_of(node);
+    child_weights(n, ctx, w, true);
     const int k = choose_child(w, u);
     pmf *= float(w.weight[k] / w.sum);
     if (n.child[k] & kLeaf) return {n.child[k] & ~kLeaf, pmf};
@@ -374,20 +378,8 @@ SampledLight LightTreeSampler::descend(double u, WeightsOf&& weights_of) const {
   }
 }
 
-SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const {
-  double u = wide_uniform(u2);
-  SampledLight chosen;
-  if (infinite_.choose(u, chosen)) return chosen;
-  if (nodes_.empty() || root_.importance(ctx) <= 0.0f) return {};
-  ChildWeights w;
-  return descend(u, [&](uint32_t node) -> const ChildWeights& {
-    child_weights(nodes_[node], ctx, w, true);
-    return w;
-  });
-}
-
 // The descents share one shading point, so they go down together: the group of descents that reached a node
-// takes one computation of its weights, each descent its step (as descend() takes it: the same results), and
+// takes one computation of its weights, each descent its step (as sample() takes it: the same results), and
 // the group splits by child, in order, into the other buffer, where each child's part goes on down with its
 // part of this buffer as scratch. Cost: one child_weights per node any descent visits.
 void LightTreeSampler::sample_many(const ShadingContext& ctx, const vec2* u2, SampledLight* out, int n) const {

@@ -105,8 +105,6 @@ class LightTreeSampler {
       __builtin_prefetch(reinterpret_cast<const char*>(&node) + line);
   }
   static int choose_child(const ChildWeights& w, double& u);
-  template <class WeightsOf>
-  SampledLight descend(double u, WeightsOf&& weights_of) const;
   // A descent of sample_many: its uniform and pmf so far, its place in the output, the child it took last.
   struct Descent {
     double u;
