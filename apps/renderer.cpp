@@ -29,7 +29,7 @@ static RestirSettings restir_settings(const RenderSettings& s) {
   RestirSettings r;
   r.di = s.di;
   // Auto's tree is the tree with region light tiles (one per screen block, whatever the count asked).
-  if (s.light_sampler == LightSamplerKind::Auto && s.method == Method::RestirDi)
+  if (s.light_sampler == LightSamplerKind::Auto && light_sampler_for(s) == LightSamplerKind::Tree)
     r.di.light_tiles = std::max(r.di.light_tiles, 1);
   r.di_reuse = s.di_reuse;
   r.gi_reuse = s.gi_reuse;
