@@ -5,6 +5,7 @@
 // resampling them.
 #include <vector>
 
+#include "engine/prefetch.h"
 #include "restir/di.h"
 #include "restir/light_tiles.h"
 #include "restir/receiver_lanes.h"
@@ -110,6 +111,21 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
   const int per_candidate = tiles ? 2 : 5;
   batch.uniforms.resize(size_t(K * per_candidate) * kLaneSlots);
   batch.streams.fill(K * per_candidate, slots, batch.uniforms.data());
+  // With tiles: the row's tiles, one per screen block it crosses (looked up per pixel, each lookup was a call and
+  // a copy that stalled on store forwarding), and the entries the row's candidates will read (uniform 2k of
+  // candidate k) prefetched first: the tiles are 7 MB at 640x360, written a stage before, and each entry loaded
+  // in turn stalled on its miss.
+  constexpr int kBlock = LightTiles::kBlock;
+  LightTiles::Tile row_tiles[kLaneSlots / kBlock + 1];
+  const int first_block = x0 / kBlock;
+  for (int block = first_block; tiles && block <= (x0 + slots - 1) / kBlock; ++block)
+    row_tiles[block - first_block] = tiles->tile(block * kBlock, y, frame);
+  auto tile_of = [&](int s) -> const LightTiles::Tile& { return row_tiles[(x0 + s) / kBlock - first_block]; };
+  for (int s = 0; tiles && s < slots; ++s) {
+    if (!batch.slot[s].hit) continue;
+    for (int k = 0; k < K; ++k)
+      prefetch_object(tile_of(s).entry(batch.uniforms[size_t(2 * k) * kLaneSlots + size_t(s)]));
+  }
   for (int s = 0; s < slots; ++s) {
     DiCandidateBatch::Slot& b = batch.slot[s];
     if (!b.hit) continue;
@@ -121,8 +137,7 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
       uniform += kLaneSlots;
       return x;
     };
-    const LightTiles::Tile tile = tiles ? tiles->tile(x0 + s, y, frame) : LightTiles::Tile{};
-    b.ctx = tiles ? tile.ctx : ShadingContext{g.position[i], g.shading_normal[i]};  // what the density is for
+    b.ctx = tiles ? tile_of(s).ctx : ShadingContext{g.position[i], g.shading_normal[i]};  // what the density is for
     if (!params.simd) {  // the scalar reference evaluates and samples everything on the two receivers
       batch.exact(g, domain, s);
       batch.target(domain, s);
@@ -130,7 +145,7 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     for (int k = 0; k < K; ++k) {
       const size_t at = size_t(k) * kLaneSlots + size_t(s);
       if (tiles) {  // the candidate is a tile entry, whole
-        const DiLightCandidate& c = tile.entries[std::min(int(next() * float(tile.size)), tile.size - 1)];
+        const DiLightCandidate& c = tile_of(s).entry(next());
         batch.u[at] = next();
         batch.p_light[at] = c.p_light;
         batch.light[at] = c.sample.light, batch.uv[at] = c.sample.uv;

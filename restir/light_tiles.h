@@ -22,6 +22,7 @@
 // E[f(x_i) / p(x_i)] / M, which involves each candidate's marginal alone; MIS with BSDF candidates asks
 // the sampler for the same density (Tile::ctx). Candidates of one screen block are correlated (they share
 // a tile), which costs variance, not bias.
+#include <algorithm>
 #include <type_traits>
 #include <vector>
 
@@ -50,6 +51,8 @@ class LightTiles {
     const DiLightCandidate* entries;
     int size;
     ShadingContext ctx;
+    // The entry a uniform u in [0, 1) picks, each with probability 1 / size.
+    const DiLightCandidate& entry(float u) const { return entries[std::min(int(u * float(size)), size - 1)]; }
   };
 
   // Stage "di_light_tiles": `count` shared tiles (context-free samplers) or one tile per screen block of
