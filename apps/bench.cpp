@@ -24,7 +24,8 @@ namespace candela {
 void add_bench_options(CLI::App& app, BenchOptions& o) {
   app.add_option(
          "--suite", o.suite,
-         "rays: primary/shadow ray throughput per scene; samplers: light selection cost and light tree build/refit; "
+         "rays: primary/shadow ray throughput per scene; samplers: light selection cost (per sample, pmf and "
+         "region-tile entry) and light tree build/refit; "
          "restir: a ReSTIR DI frame and its stages next to its own rays traced alone (use --width 640 --height 360); "
          "denoise: cross-bilateral and SVGF time per frame at 640x360 and 1280x720; soak: --frames frames of "
          "restir + svgf on builtin:city with an orbiting camera, counting non-finite pixels and reporting VmRSS")

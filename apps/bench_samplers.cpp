@@ -1,6 +1,6 @@
-// `candela bench --suite samplers`: cost of light selection (ns per sample and per pmf) at 1e2..1e6
-// lights, the light tree's build and refit times, and the random numbers of one direct-light path from
-// each sample stream.
+// `candela bench --suite samplers`: cost of light selection (ns per sample, per pmf and per entry of a region
+// light tile) at 1e2..1e6 lights, the light tree's build and refit times, and the random numbers of one direct-light
+// path from each sample stream.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -11,6 +11,7 @@
 #include "engine/builtin_scenes.h"
 #include "engine/rng.h"
 #include "engine/sobol.h"
+#include "restir/light_tiles.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
 
@@ -36,6 +37,8 @@ struct SamplerScene {
   }
 };
 
+constexpr int kTileEntries = LightTiles::kRegionTileSize;
+
 template <class Sampler>
 void register_sampler(const std::string& name, const SamplerScene& s, const BenchOptions& o) {
   auto sampler = std::make_shared<Sampler>(*s.lights);
@@ -49,6 +52,21 @@ void register_sampler(const std::string& name, const SamplerScene& s, const Benc
     for (auto _ : state) {
       SampledLight l = sampler->sample(s.points[k++ & 1023], vec2(rng.next_float(), rng.next_float()));
       benchmark::DoNotOptimize(l);
+    }
+  }));
+  // A region light tile's draw (restir/light_tiles.h): 128 stratified lights for one region (a shading point's
+  // sphere of radius 0.5, any orientation) in one sample_lights call; the summary divides its time by 128.
+  configure(benchmark::RegisterBenchmark(("tile/" + name + "/" + n).c_str(), [sampler, &s](benchmark::State& state) {
+    Rng rng(3, 4);
+    std::vector<vec2> u(kTileEntries);
+    std::vector<SampledLight> out(kTileEntries);
+    size_t k = 0;
+    for (auto _ : state) {
+      for (int e = 0; e < kTileEntries; ++e)
+        u[size_t(e)] = vec2(stratified_uniform(e, kTileEntries, rng.next_float()), rng.next_float());
+      const ShadingContext region{s.points[k++ & 1023].position, vec3(0.0f), 0.5f};
+      sample_lights(*sampler, region, u.data(), out.data(), kTileEntries);
+      benchmark::DoNotOptimize(out.data());
     }
   }));
   configure(benchmark::RegisterBenchmark(("pmf/" + name + "/" + n).c_str(), [sampler, &s](benchmark::State& state) {
@@ -124,16 +142,20 @@ int run_sampler_bench(const BenchOptions& o) {
   });
 
   BenchResults r = run_registered_benchmarks(o);
-  std::printf("\nSummary (medians of %d repetitions, ns per call):\n%-10s", o.repetitions, "lights");
+  std::printf("\nSummary (medians of %d repetitions, ns per call; tile: per entry of a %d-entry region tile):\n%-10s",
+              o.repetitions, kTileEntries, "lights");
   for (const char* k : {"uniform", "power", "tree"})
-    std::printf(" %12s %12s", (std::string(k) + " smp").c_str(), (std::string(k) + " pmf").c_str());
+    std::printf(" %12s %12s %12s", (std::string(k) + " smp").c_str(), (std::string(k) + " pmf").c_str(),
+                (std::string(k) + " tile").c_str());
   std::printf("\n");
   for (const auto& s : keep) {
     std::string n = std::to_string(s->lights->size());
     std::printf("%-10s", n.c_str());
     for (const char* k : {"uniform", "power", "tree"})
-      std::printf(" %12.1f %12.1f", BenchResults::median(r.ns_per_iteration, std::string("sample/") + k + "/" + n),
-                  BenchResults::median(r.ns_per_iteration, std::string("pmf/") + k + "/" + n));
+      std::printf(" %12.1f %12.1f %12.1f",
+                  BenchResults::median(r.ns_per_iteration, std::string("sample/") + k + "/" + n),
+                  BenchResults::median(r.ns_per_iteration, std::string("pmf/") + k + "/" + n),
+                  BenchResults::median(r.ns_per_iteration, std::string("tile/") + k + "/" + n) / kTileEntries);
     std::printf("\n");
   }
   std::printf(

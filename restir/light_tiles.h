@@ -15,13 +15,15 @@
 //   (ShadingContext::radius), for which the sampler's importance stays positive wherever some point of
 //   the region can receive a light (light_bounds.h, LightBounds::importance).
 //
-// Unbiasedness: every entry is drawn independently with density p_light(x) = pmf(ctx, light) / area for
-// the tile's context (a direct draw for that context), and a pixel picks entries uniformly, so each
-// candidate is marginally distributed with exactly that density, which is positive wherever the pixel can
-// receive light. RIS needs nothing more: the expectation of its estimate is the sum over candidates of
+// Unbiasedness: entry e of a tile of n draws its light with the sampler's uniform confined to the e-th of n
+// equal parts of [0, 1) (stratified_uniform), and a pixel picks entries uniformly, so the uniform behind each
+// candidate is uniform on [0, 1) and the candidate is marginally distributed with exactly the density of a
+// direct draw for the tile's context, p_light(x) = pmf(ctx, light) / area, which is positive wherever the pixel
+// can receive light. RIS needs nothing more: the expectation of its estimate is the sum over candidates of
 // E[f(x_i) / p(x_i)] / M, which involves each candidate's marginal alone; MIS with BSDF candidates asks
 // the sampler for the same density (Tile::ctx). Candidates of one screen block are correlated (they share
-// a tile), which costs variance, not bias.
+// a tile), which costs variance, not bias; the strata make a tile cover the distribution evenly, which lowers
+// that variance (docs/restir.md, "Stratified tile entries").
 #include <algorithm>
 #include <type_traits>
 #include <vector>
@@ -37,6 +39,13 @@ namespace candela {
 template <class S>
 inline constexpr bool kContextFreeSampler =
     std::is_same_v<S, PowerLightSampler> || std::is_same_v<S, UniformLightSampler>;
+
+// The uniform with which a tile's entry e (of `size`) chooses its light: x in [0, 1) moved into the e-th of `size`
+// equal parts of [0, 1) (the stratification the header explains). A tile's uniforms thus come nearly sorted, the
+// order in which the light tree's sample_many takes them fastest.
+inline float stratified_uniform(int e, int size, float x) {
+  return std::min(float((double(e) + double(x)) / double(size)), 0x1.fffffep-1f);
+}
 
 class LightTiles {
  public:
@@ -106,7 +115,7 @@ class LightTiles {
     return {box.center(), vec3(0.0f), radius * 1.0001f + 1e-6f * max_component(glm::abs(box.center())) + 1e-6f};
   }
 
-  // Draws tile t's entries for its context: uniforms per entry as keyed, then the lights in one call.
+  // Draws tile t's entries for its context: uniforms per entry as keyed (stratified), then the lights in one call.
   template <LightSampler S>
   void draw_tile(const SceneView& view, const S& sampler, int t, uint64_t seed, int frame) {
     if (contexts_[size_t(t)].radius < 0.0f) return;
@@ -115,7 +124,7 @@ class LightTiles {
     u.resize(size_t(size_)), uv.resize(size_t(size_)), chosen.resize(size_t(size_));
     for (int e = 0; e < size_; ++e) {
       Rng rng = Rng::for_key(seed, uint64_t(t) * uint64_t(size_) + uint64_t(e), uint64_t(frame), 0x7e);
-      u[size_t(e)] = vec2(rng.next_float(), rng.next_float());
+      u[size_t(e)] = vec2(stratified_uniform(e, size_, rng.next_float()), rng.next_float());
       uv[size_t(e)] = vec2(rng.next_float(), rng.next_float());
     }
     sample_lights(sampler, contexts_[size_t(t)], u.data(), chosen.data(), size_);

@@ -355,8 +355,12 @@ int LightTreeSampler::choose_child(const ChildWeights& w, double& u) {
   const double t = u * w.sum;
   int k = 0;
   for (int j = 0; j < w.last; ++j) k += t >= w.cumulative[j];
-  u = std::min((t - (k > 0 ? w.cumulative[k - 1] : 0.0)) / w.weight[k], 1.0 - 0x1p-53);
+  u = rescaled(w, k, t);
   return k;
+}
+
+double LightTreeSampler::rescaled(const ChildWeights& w, int k, double t) {
+  return std::min((t - (k > 0 ? w.cumulative[k - 1] : 0.0)) / w.weight[k], 1.0 - 0x1p-53);
 }
 
 // A stochastic descent from the root: at each node, a child with probability weight / sum (choose_child); the
@@ -379,48 +383,48 @@ SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const 
 }
 
 // The descents share one shading point, so they go down together: the group of descents that reached a node
-// takes one computation of its weights, each descent its step (as sample() takes it: the same results), and
-// the group splits by child, in order, into the other buffer, where each child's part goes on down with its
-// part of this buffer as scratch. Cost: one child_weights per node any descent visits.
+// takes one computation of its weights, each descent its step (as sample() takes it: the same results). Sorted
+// by their uniforms, the descents that take each child are a contiguous run, in child order (t = u * sum, the
+// child choose_child picks and the uniform it rescales are all non-decreasing in u), and the rescaled uniforms
+// keep the order, so each run goes on down in place. The sort is an insertion sort: callers that draw many
+// lights at once draw them stratified (restir/light_tiles.h), so their uniforms come nearly in order. Cost: the
+// sort (n steps for uniforms in order) and one child_weights per node any descent visits.
 void LightTreeSampler::sample_many(const ShadingContext& ctx, const vec2* u2, SampledLight* out, int n) const {
-  thread_local std::vector<Descent> group, scratch;
+  thread_local std::vector<Descent> group;
   group.clear();
   const bool reachable = !nodes_.empty() && root_.importance(ctx) > 0.0f;
   for (int k = 0; k < n; ++k) {
     double u = wide_uniform(u2[k]);
     if (infinite_.choose(u, out[k])) continue;
     out[k] = {};
-    if (reachable) group.push_back({u, 1.0f - infinite_.probability(), k, 0});
+    if (!reachable) continue;
+    group.push_back({u, 1.0f - infinite_.probability(), k});
+    for (size_t d = group.size() - 1; d > 0 && group[d].u < group[d - 1].u; --d) std::swap(group[d], group[d - 1]);
   }
-  scratch.resize(group.size());
-  if (!group.empty()) descend_together(ctx, 0, group.data(), scratch.data(), int(group.size()), out);
+  if (!group.empty()) descend_together(ctx, 0, group.data(), int(group.size()), out);
 }
 
-void LightTreeSampler::descend_together(const ShadingContext& ctx, uint32_t node, Descent* group, Descent* scratch,
-                                        int count, SampledLight* out) const {
+void LightTreeSampler::descend_together(const ShadingContext& ctx, uint32_t node, Descent* group, int count,
+                                        SampledLight* out) const {
   const Node& n = nodes_[node];
   ChildWeights w;
   child_weights(n, ctx, w, true);
-  float probability[kTreeWidth];  // the children's, once for the group
-  for (int k = 0; k <= w.last; ++k) probability[k] = float(w.weight[k] / w.sum);
-  int first[kTreeWidth + 1] = {};
-  for (int d = 0; d < count; ++d) {
-    Descent& descent = group[d];
-    descent.child = choose_child(w, descent.u);
-    descent.pmf *= probability[descent.child];
-    ++first[descent.child + 1];
-  }
-  for (int k = 0; k < kTreeWidth; ++k) first[k + 1] += first[k];
-  int next[kTreeWidth];
-  std::copy(first, first + kTreeWidth, next);
-  for (int d = 0; d < count; ++d) scratch[next[group[d].child]++] = group[d];
-  for (int k = 0; k < kTreeWidth; ++k) {
-    if (first[k] == first[k + 1]) continue;
+  for (int first = 0; first < count;) {
+    // The run of the first descent left: its child by choose_child, then the descents whose t stays below that
+    // child's end (all of them for the last child with weight).
+    const int k = choose_child(w, group[first].u);
+    int end = first + 1;
+    if (k < w.last)
+      while (end < count && group[end].u * w.sum < w.cumulative[k]) ++end;
+    for (int d = first + 1; d < end; ++d) group[d].u = rescaled(w, k, group[d].u * w.sum);
+    const float probability = float(w.weight[k] / w.sum);
+    for (int d = first; d < end; ++d) group[d].pmf *= probability;
     if (n.child[k] & kLeaf) {
-      for (int d = first[k]; d < first[k + 1]; ++d) out[scratch[d].index] = {n.child[k] & ~kLeaf, scratch[d].pmf};
+      for (int d = first; d < end; ++d) out[group[d].index] = {n.child[k] & ~kLeaf, group[d].pmf};
     } else {
-      descend_together(ctx, n.child[k], scratch + first[k], group + first[k], first[k + 1] - first[k], out);
+      descend_together(ctx, n.child[k], group + first, end - first, out);
     }
+    first = end;
   }
 }
 

@@ -105,15 +105,16 @@ class LightTreeSampler {
       __builtin_prefetch(reinterpret_cast<const char*>(&node) + line);
   }
   static int choose_child(const ChildWeights& w, double& u);
-  // A descent of sample_many: its uniform and pmf so far, its place in the output, the child it took last.
+  // The uniform a descent that took child k at t = u * sum goes on with: its place in the child's share.
+  static double rescaled(const ChildWeights& w, int k, double t);
+  // A descent of sample_many: its uniform, its pmf so far and its place in the output.
   struct Descent {
     double u;
     float pmf;
     int index;
-    int child;
   };
-  void descend_together(const ShadingContext& ctx, uint32_t node, Descent* group, Descent* scratch, int count,
-                        SampledLight* out) const;
+  // The `count` descents of `group` (sorted by u) that reached `node`, down to their lights.
+  void descend_together(const ShadingContext& ctx, uint32_t node, Descent* group, int count, SampledLight* out) const;
 
   std::vector<Node> nodes_;
   LightBounds root_;           // bounds of all finite lights

@@ -10,6 +10,7 @@
 #include "engine/builtin_scenes.h"
 #include "engine/rng.h"
 #include "engine/simd_targets.h"
+#include "restir/light_tiles.h"
 #include "samplers/light_tree.h"
 #include "samplers/simple_samplers.h"
 #include "samplers/wide_importance.h"
@@ -271,9 +272,10 @@ TEST(Samplers, TreeFrequenciesMatchPmfInTheCity) {
   check_context_sampler<LightTreeSampler>(make_city_scene(7), 3, 200000);
 }
 
-// sample_many (one shading point, each node's weights computed once) gives exactly what sample() gives for
-// each uniform, also past the 32 nodes it remembers (200 draws at a point of manylights with 4,096 lights)
-// and with a directional light beside the finite ones.
+// sample_many (one shading point, its descents sorted by uniform, each node's weights computed once) gives
+// exactly what sample() gives for each uniform, in whatever order they come (random here; a light tile's come
+// stratified), for 1 to 200 draws at a point of manylights with 4,096 lights and with a directional light beside
+// the finite ones.
 TEST(Samplers, TreeSampleManyEqualsSample) {
   for (const Scene& scene : {make_manylights_scene(2048, 7), manylights_with_sun()}) {
     LightList lights(scene);
@@ -294,6 +296,23 @@ TEST(Samplers, TreeSampleManyEqualsSample) {
       }
     }
     EXPECT_EQ(compared, 16 * 209);
+  }
+}
+
+// A light tile's entries draw stratified uniforms: entry e of n lies in [e / n, (e + 1) / n] (its float rounding
+// at most reaching the upper end), never 1, and in order of e, so that a tile's descents come sorted.
+TEST(Samplers, TileStrataCoverTheUnitIntervalInOrder) {
+  for (int n : {3, 128, 1024}) {
+    float last = 0.0f;
+    for (int e = 0; e < n; ++e)
+      for (float x : {0.0f, 0.5f, 0x1.fffffep-1f}) {
+        const float v = stratified_uniform(e, n, x);
+        ASSERT_GE(v, float(double(e) / n)) << e << " of " << n;
+        ASSERT_LE(v, float(double(e + 1) / n)) << e << " of " << n;
+        ASSERT_LT(v, 1.0f);
+        ASSERT_GE(v, last);
+        last = v;
+      }
   }
 }
 
