@@ -350,7 +350,7 @@ void LightTreeSampler::child_weights(const Node& node, const ShadingContext& ctx
 // One step of a descent: the child whose share of [0, sum) holds u * sum (child_weights' values), found without
 // branches: k shares end at or before it. A child of weight 0 ends where the one before it does, so it is never
 // chosen; the last child with weight takes what rounding leaves over. The 48-bit uniform is rescaled into the
-// child's interval so that it serves the next level too. The child's probability is float(weight / sum).
+// child's interval so that it serves the next level too. The child's probability is probability(w, k).
 int LightTreeSampler::choose_child(const ChildWeights& w, double& u) {
   const double t = u * w.sum;
   int k = 0;
@@ -358,6 +358,8 @@ int LightTreeSampler::choose_child(const ChildWeights& w, double& u) {
   u = rescaled(w, k, t);
   return k;
 }
+
+float LightTreeSampler::probability(const ChildWeights& w, int k) { return float(w.weight[k] / w.sum); }
 
 double LightTreeSampler::rescaled(const ChildWeights& w, int k, double t) {
   return std::min((t - (k > 0 ? w.cumulative[k - 1] : 0.0)) / w.weight[k], 1.0 - 0x1p-53);
@@ -376,7 +378,7 @@ SampledLight LightTreeSampler::sample(const ShadingContext& ctx, vec2 u2) const 
     const Node& n = nodes_[node];
     child_weights(n, ctx, w, true);
     const int k = choose_child(w, u);
-    pmf *= float(w.weight[k] / w.sum);
+    pmf *= probability(w, k);
     if (n.child[k] & kLeaf) return {n.child[k] & ~kLeaf, pmf};
     node = n.child[k];
   }
@@ -414,11 +416,13 @@ void LightTreeSampler::descend_together(const ShadingContext& ctx, uint32_t node
     // child's end (all of them for the last child with weight).
     const int k = choose_child(w, group[first].u);
     int end = first + 1;
-    if (k < w.last)
-      while (end < count && group[end].u * w.sum < w.cumulative[k]) ++end;
-    for (int d = first + 1; d < end; ++d) group[d].u = rescaled(w, k, group[d].u * w.sum);
-    const float probability = float(w.weight[k] / w.sum);
-    for (int d = first; d < end; ++d) group[d].pmf *= probability;
+    for (; end < count; ++end) {
+      const double t = group[end].u * w.sum;
+      if (k < w.last && !(t < w.cumulative[k])) break;
+      group[end].u = rescaled(w, k, t);
+    }
+    const float p = probability(w, k);
+    for (int d = first; d < end; ++d) group[d].pmf *= p;
     if (n.child[k] & kLeaf) {
       for (int d = first; d < end; ++d) out[group[d].index] = {n.child[k] & ~kLeaf, group[d].pmf};
     } else {
@@ -444,7 +448,7 @@ float LightTreeSampler::pmf(const ShadingContext& ctx, uint32_t index) const {
     const uint32_t ref = path[--depth];
     ChildWeights w;
     child_weights(nodes_[ref / kTreeWidth], ctx, w, false);
-    pmf *= float(w.weight[ref % kTreeWidth] / w.sum);
+    pmf *= probability(w, int(ref % kTreeWidth));
   }
   return pmf;
 }

@@ -105,6 +105,8 @@ class LightTreeSampler {
       __builtin_prefetch(reinterpret_cast<const char*>(&node) + line);
   }
   static int choose_child(const ChildWeights& w, double& u);
+  // Child k's probability, float(weight / sum): what sampling multiplies into a pmf and pmf() multiplies again.
+  static float probability(const ChildWeights& w, int k);
   // The uniform a descent that took child k at t = u * sum goes on with: its place in the child's share.
   static double rescaled(const ChildWeights& w, int k, double t);
   // A descent of sample_many: its uniform, its pmf so far and its place in the output.
