@@ -216,6 +216,11 @@ void append_di_candidate_rows(std::vector<Setting>& rows) {
       "Light candidates per pixel (M_l)", kRestirMethods));
   rows.back().widget_max = 64;
   rows.push_back(number_row(
+      "di_history_candidates", g, SettingType::Int, 0, 1024,
+      [](auto& s) -> auto& { return s.di.history_light_candidates; },
+      "Light candidates for pixels whose temporal history is found (at most di_candidates)", kRestirMethods));
+  rows.back().widget_max = 64;
+  rows.push_back(number_row(
       "di_bsdf_candidates", g, SettingType::Int, 0, 64, [](auto& s) -> auto& { return s.di.bsdf_candidates; },
       "BSDF-sampled candidates per pixel (M_b; one ray each)", kRestirMethods));
   rows.back().widget_max = 8;

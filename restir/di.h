@@ -38,6 +38,9 @@ struct DiParams {
   // M_l: candidates per pixel from the light sampler (cost: M_l light samples + BSDF evaluations); 4 beat 8 at
   // equal time on manylights, city and occluded_room (docs/restir.md, "Spatial neighbours and light candidates")
   int light_candidates = 4;
+  // M_l for the pixels whose temporal history was found (di_find_history), at most light_candidates: their
+  // history already stands for up to history_cap times their candidates.
+  int history_light_candidates = 1;
   int bsdf_candidates = 1;  // M_b: candidates from BSDF sampling that hit an emitter (cost: one ray each)
   // Each BSDF candidate is drawn (and its ray traced) with this probability, and counts as this fraction of a
   // candidate in every candidate's MIS weight (see effective_bsdf_candidates); below 1 it pays on manylights and

@@ -31,7 +31,9 @@ struct DiCandidateBatch {
                           // light candidates
     bool receiver_built = false, target_built = false;
     ShadingContext ctx;
+    int light_candidates = 0;  // M_l of the slot: DiParams::light_candidates, or history_light_candidates
   } slot[kLaneSlots];
+  alignas(64) float M_l[kLaneSlots];  // the slots' M_l, as the resampling lanes read it
   // The packed receiver of a slot, for the targets the lanes do not evaluate (BSDF candidates, punctual
   // lights).
   const DiReceiver& target(const DiDomain& domain, int s) {
@@ -86,20 +88,24 @@ struct DiCandidateBatch {
 
 // Stage "di_candidates", part 1 (per tile row): each pixel's receivers and its M_l light candidates, drawn
 // from the sampler and placed on their lights (or read from the pixel's light tile, with `tiles`: one
-// uniform entry each, with the density of the tile's context), into the batch's slots and lanes. In three
+// uniform entry each, with the density of the tile's context), into the batch's slots and lanes; with `history`
+// (the row's di_find_history answers) a pixel with history draws its first history_light_candidates only, and its
+// other candidates stay empty (the uniforms are drawn either way, so every candidate keeps its numbers). In three
 // passes over the row, so that the cache misses of the sampler's tables and of the chosen lights' records
 // (with 1e5 lights, several per candidate) overlap across pixels instead of stalling each candidate in turn:
 // the uniforms (and the sampler's prefetch), the choices (and the lights' records prefetched), the points.
 template <LightSampler S>
 void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
                            const DiParams& params, int frame, size_t row, int x0, int y, int slots,
-                           const LightTiles* tiles, DiCandidateBatch& batch) {
+                           const LightTiles* tiles, const int32_t* history, DiCandidateBatch& batch) {
   const int K = params.light_candidates;
   for (int s = 0; s < slots; ++s) {
     DiCandidateBatch::Slot& b = batch.slot[s];
     const size_t i = row + size_t(s);
     b.hit = g.hit(i);
     b.pixel = i;
+    b.light_candidates = history && history[s] >= 0 ? std::min(K, params.history_light_candidates) : K;
+    batch.M_l[s] = float(b.light_candidates);
     b.receiver_built = b.target_built = false;
     for (int k = 0; k < K; ++k) batch.planes[size_t(k)].clear(s);
     batch.surfaces.set(s, domain.surfaces[i]);
@@ -123,7 +129,7 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
   auto tile_of = [&](int s) -> const LightTiles::Tile& { return row_tiles[(x0 + s) / kBlock - first_block]; };
   for (int s = 0; tiles && s < slots; ++s) {
     if (!batch.slot[s].hit) continue;
-    for (int k = 0; k < K; ++k)
+    for (int k = 0; k < batch.slot[s].light_candidates; ++k)
       prefetch_object(tile_of(s).entry(batch.uniforms[size_t(2 * k) * kLaneSlots + size_t(s)]));
   }
   for (int s = 0; s < slots; ++s) {
@@ -144,6 +150,11 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     }
     for (int k = 0; k < K; ++k) {
       const size_t at = size_t(k) * kLaneSlots + size_t(s);
+      if (k >= b.light_candidates) {  // not drawn: its numbers are skipped
+        batch.p_light[at] = 0.0f;
+        uniform += per_candidate * kLaneSlots;
+        continue;
+      }
       if (tiles) {  // the candidate is a tile entry, whole
         const DiLightCandidate& c = tile_of(s).entry(next());
         batch.u[at] = next();
@@ -161,21 +172,22 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
       batch.uv[at] = vec2(vx, vy);
       batch.u[at] = next();
     }
-    if (!tiles) prefetch_lights(sampler, b.ctx, &batch.light_u[size_t(s * K)], K);
+    if (!tiles) prefetch_lights(sampler, b.ctx, &batch.light_u[size_t(s * K)], b.light_candidates);
   }
   if (tiles) return;
   // The M_l lights of a pixel in one call (the light tree shares its upper levels between them).
   for (int s = 0; s < slots; ++s) {
     if (!batch.slot[s].hit) continue;
     SampledLight* chosen = &batch.chosen[size_t(s * K)];
-    sample_lights(sampler, batch.slot[s].ctx, &batch.light_u[size_t(s * K)], chosen, K);
-    for (int k = 0; k < K; ++k) view.lights.prefetch(chosen[k].index);
+    const int count = batch.slot[s].light_candidates;
+    sample_lights(sampler, batch.slot[s].ctx, &batch.light_u[size_t(s * K)], chosen, count);
+    for (int k = 0; k < count; ++k) view.lights.prefetch(chosen[k].index);
   }
   // Each candidate's light and density into the batch and its point straight into the lanes (a whole
   // DiSample assembled and copied per candidate stalled on store forwarding in the profile).
   for (int s = 0; s < slots; ++s) {
     if (!batch.slot[s].hit) continue;
-    for (int k = 0; k < K; ++k) {
+    for (int k = 0; k < batch.slot[s].light_candidates; ++k) {
       const size_t at = size_t(k) * kLaneSlots + size_t(s);
       const SampledLight chosen = batch.chosen[size_t(s * K + k)];
       batch.p_light[at] = di_light_pdf(view.lights, chosen);
@@ -280,7 +292,7 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
   unsampled = vec3(0.0f);
   DiCandidateBatch::Slot& b = batch.slot[slot];
   if (!b.hit) return 0;
-  const float M_l = float(params.light_candidates), M_b = params.effective_bsdf_candidates();
+  const float M_l = batch.M_l[slot], M_b = params.effective_bsdf_candidates();
   if (lanes && !batch.drew_punctual(view.lights, params.light_candidates, slot)) {
     r.w_sum = lanes->w_sum[slot];
     if (const int k = int(lanes->chosen[slot]); k >= 0) r.y = batch.candidate(view.lights, k, slot);
@@ -346,7 +358,8 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
 template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
                            const DiParams& params, int frame, std::vector<DiReservoir>& out,
-                           std::vector<vec3>& unsampled, RayCounter& rays, const LightTiles* tiles = nullptr) {
+                           std::vector<vec3>& unsampled, RayCounter& rays, const LightTiles* tiles = nullptr,
+                           const std::vector<int32_t>* history = nullptr) {
   // Sized only: resample_candidates writes every pixel (in parallel, where a fill here ran on one thread).
   out.resize(g.size());
   unsampled.resize(g.size());
@@ -357,12 +370,14 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
     uint64_t traced = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t row = size_t(y) * size_t(g.width) + size_t(tile.x0);
-      draw_light_candidates(view, sampler, g, domain, params, frame, row, tile.x0, y, slots, tiles, batch);
+      draw_light_candidates(view, sampler, g, domain, params, frame, row, tile.x0, y, slots, tiles,
+                            history ? history->data() + row : nullptr, batch);
+      int row_candidates = 0;  // the planes that hold a candidate of some slot
+      for (int s = 0; s < slots; ++s) row_candidates = std::max(row_candidates, batch.slot[s].light_candidates);
       if (params.simd) {
         build_receiver_lanes(batch.surfaces, domain.eye, slots, batch.lanes);
         build_exact_receiver_lanes(batch.exact_surfaces, domain.eye, slots, batch.lanes.exact);
-        evaluate_candidate_lanes(batch.lanes, batch.planes.data(), params.light_candidates, slots,
-                                 params.bsdf_candidates > 0);
+        evaluate_candidate_lanes(batch.lanes, batch.planes.data(), row_candidates, slots, params.bsdf_candidates > 0);
       } else {
         evaluate_candidates_scalar(params, slots, batch);
       }
@@ -372,9 +387,8 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       locate_bsdf_hits(view, params, slots, batch);
       thread_local StreamLanes streams;
       if (params.simd)
-        resample_light_candidates_lanes(batch.planes.data(), batch.p_light.data(), batch.u.data(),
-                                        params.light_candidates, float(params.light_candidates),
-                                        params.effective_bsdf_candidates(), slots, streams);
+        resample_light_candidates_lanes(batch.planes.data(), batch.p_light.data(), batch.u.data(), row_candidates,
+                                        batch.M_l, params.effective_bsdf_candidates(), slots, streams);
       for (int s = 0; s < slots; ++s)
         traced += resample_candidates(view, sampler, g, domain, params, s, params.simd ? &streams : nullptr, batch,
                                       out[row + s], unsampled[row + s]);

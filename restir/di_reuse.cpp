@@ -1,5 +1,6 @@
 #include "restir/di_reuse.h"
 
+#include "engine/check.h"
 #include "engine/parallel.h"
 #include "engine/prefetch.h"
 #include "restir/neighbour_lanes.h"
@@ -355,6 +356,57 @@ void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count
     weights[role] = mis_weight(view, inputs, targets, count, source, role, y, p_hat_here, params, rays);
 }
 
+int64_t di_reprojected_pixel(const GBuffer& g, const DiDomain& current, const DiReuseParams& params, int frame,
+                             size_t i, int x, int y) {
+  if (!g.hit(i) || current.surfaces[i].roughness() < params.min_roughness) return -1;
+  vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
+  if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return -1;
+  int px = int(p.x), py = int(p.y);
+  if (params.permutation_sampling) {
+    uint64_t pattern = mix64(params.seed ^ uint64_t(frame));
+    px ^= int(pattern & 1);
+    py ^= int((pattern >> 1) & 1);
+  }
+  if (px < 0 || py < 0 || px >= g.width || py >= g.height) return -1;
+  return int64_t(py) * g.width + px;
+}
+
+void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& previous, const DiReuseParams& params,
+                     int frame, std::vector<int32_t>& history_pixel) {
+  if (previous.surfaces.size() != g.size()) {  // no surfaces last frame: nothing to reuse
+    history_pixel.assign(g.size(), -1);
+    return;
+  }
+  history_pixel.resize(g.size());  // every pixel is written by its tile row below
+  for_each_tile(g.width, g.height, [&](const Tile& tile) {
+    thread_local NeighbourLanes lanes;  // params.simd: whether the reprojected pixel's surface is similar
+    const int slots = tile.x1 - tile.x0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
+      int32_t* found = history_pixel.data() + first;
+      for (int s = 0; s < slots; ++s)
+        found[s] = int32_t(di_reprojected_pixel(g, current, params, frame, first + size_t(s), tile.x0 + s, y));
+      if (params.simd) {
+        for (int s = 0; s < slots; ++s) {
+          lanes.set(s, current.surfaces[first + size_t(s)]);
+          if (found[s] >= 0)
+            lanes.set_neighbour(0, s, previous.surfaces[size_t(found[s])]);
+          else
+            lanes.clear_neighbour(0, s);
+        }
+        similar_neighbour_lanes(lanes, 1, slots, params.depth_tolerance, params.normal_tolerance);
+      }
+      for (int s = 0; s < slots; ++s) {
+        const size_t i = first + size_t(s);
+        if (found[s] >= 0 && !(params.simd ? lanes.similar[0][s] != 0
+                                           : similar_surfaces(current.surfaces[i], current.surfaces[i].shading_n(),
+                                                              previous.surfaces[size_t(found[s])], params)))
+          found[s] = -1;
+      }
+    }
+  });
+}
+
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
@@ -364,23 +416,8 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     out = reservoirs;
     return;
   }
-  history_pixel.resize(g.size());  // every pixel is written by its tile row below
-  out.resize(reservoirs.size());   // every pixel is written by its tile row below
-  // Last frame's pixel under pixel i's surface point, or -1: reprojected with the motion vectors (which
-  // start at the jittered film position); whether its surface is similar is tested apart.
-  auto reprojected = [&](size_t i, int x, int y) -> int64_t {
-    if (!g.hit(i) || current.surfaces[i].roughness() < params.min_roughness) return -1;
-    vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
-    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return -1;
-    int px = int(p.x), py = int(p.y);
-    if (params.permutation_sampling) {
-      uint64_t pattern = mix64(params.seed ^ uint64_t(frame));
-      px ^= int(pattern & 1);
-      py ^= int((pattern >> 1) & 1);
-    }
-    if (px < 0 || py < 0 || px >= g.width || py >= g.height) return -1;
-    return int64_t(py) * g.width + px;
-  };
+  CHECK(history_pixel.size() == g.size());  // di_find_history's
+  out.resize(reservoirs.size());            // every pixel is written by its tile row below
   // With visibility in the pairwise weights, whether each history sample is visible from its own surface
   // (against this frame's geometry; the weight of a positive term reads it), into the input, traced 16 at
   // a time in slot order instead of one ray at a time inside the combinations. Returns the rays traced.
@@ -405,35 +442,19 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
       ReuseRow row;
       DiReservoir aged[kLaneSlots];
       ReuseStreams streams;
-      int64_t previous[kLaneSlots];  // the reprojected pixel, or -1
-      NeighbourLanes similar;        // params.simd: whether its surface is similar
     };
     thread_local Batch batch;
     const int slots = tile.x1 - tile.x0;
     uint64_t traced = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
-      for (int s = 0; s < slots; ++s) batch.previous[s] = reprojected(first + size_t(s), tile.x0 + s, y);
       batch.streams.key(slots, params.seed, first, uint64_t(frame), 0xd2);  // Rng::for_key(seed, pixel, frame, 0xd2)
-      if (params.simd) {
-        for (int s = 0; s < slots; ++s) {
-          batch.similar.set(s, current.surfaces[first + size_t(s)]);
-          if (batch.previous[s] >= 0)
-            batch.similar.set_neighbour(0, s, previous.surfaces[size_t(batch.previous[s])]);
-          else
-            batch.similar.clear_neighbour(0, s);
-        }
-        similar_neighbour_lanes(batch.similar, 1, slots, params.depth_tolerance, params.normal_tolerance);
-      }
       for (int s = 0; s < slots; ++s) {
         const size_t i = first + size_t(s);
         batch.row.count[s] = 0;
+        const int32_t j = history_pixel[i];
         history_pixel[i] = -1;
-        const int64_t j = batch.previous[s];
-        if (j < 0 || !(params.simd ? batch.similar.similar[0][s] != 0
-                                   : similar_surfaces(current.surfaces[i], current.surfaces[i].shading_n(),
-                                                      previous.surfaces[size_t(j)], params)))
-          continue;
+        if (j < 0) continue;
         DiReservoir& aged = batch.aged[s];
         aged = history[size_t(j)];
         aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));

@@ -81,6 +81,20 @@ struct DiReuseInput {
 // similar_neighbour_lanes (neighbour_lanes.h), which the stages use with params.simd.
 bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const DiReuseParams& params);
 
+// Last frame's pixel under pixel (x, y) = i's surface point, reprojected with the motion vectors (which start at
+// the jittered film position; with params.permutation_sampling, moved to a neighbour by the frame's pattern), or
+// -1: no hit, smoother than params.min_roughness, or off screen. Whether its surface is similar is tested apart.
+int64_t di_reprojected_pixel(const GBuffer& g, const DiDomain& current, const DiReuseParams& params, int frame,
+                             size_t i, int x, int y);
+
+// Stage "di_history", temporal reuse's first half: for every pixel, its reprojected pixel (di_reprojected_pixel)
+// where that holds a similar surface last frame (similar_surfaces; in lanes with params.simd), else -1 (everywhere
+// without last frame's surfaces), into
+// `history_pixel`, sized here. Before the light candidates, which take fewer where history is found
+// (DiParams::history_light_candidates). Cost per pixel: a reprojection and one packed surface of last frame read.
+void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& previous, const DiReuseParams& params,
+                     int frame, std::vector<int32_t>& history_pixel);
+
 // The resampling MIS weights m_z(y), z = 0..count-1, that params.bias gives every input of a combination
 // for the sample y of input `source` (input 0: the pixel that combines, whose frame y is placed in), into
 // `weights`. The reuse stages compute the same function for z = source only; tests call this to check
@@ -88,11 +102,11 @@ bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurfa
 void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source,
                     const DiReuseParams& params, float* weights);
 
-// Stage "di_temporal": reads this frame's G-buffer (motion), this and the previous frame's surfaces and
-// reservoirs, writes `out` (one combined reservoir per pixel) and `history_pixel` (the previous frame's
-// pixel whose reservoir was merged, or -1 where the history was lost). Reprojects with the motion vectors.
-// One tile row at a time: the rows' pairs of inputs, their targets in lanes (with params.simd;
-// reuse_targets.h), then the combinations. No rays, except with mis_visibility.
+// Stage "di_temporal": reads this and the previous frame's surfaces and reservoirs and `history_pixel`
+// (di_find_history's), writes `out` (one combined reservoir per pixel) and turns `history_pixel` into the
+// previous frame's pixel whose reservoir was merged, or -1 where the history was lost (also where its sample
+// grew older than params.max_sample_age). One tile row at a time: the rows' pairs of inputs, their targets in
+// lanes (with params.simd; reuse_targets.h), then the combinations. No rays, except with mis_visibility.
 void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
                        const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,

@@ -31,10 +31,11 @@ void store(D d, const Stream& r, int s, StreamLanes& out) {
 }
 
 void ResampleLightCandidatesLanes(const CandidateLanes* planes, const float* p_light, const float* u, int count,
-                                  float M_l, float M_b, int slots, StreamLanes& out) {
+                                  const float* M_l, float M_b, int slots, StreamLanes& out) {
   const D d;
-  const V zero = hn::Zero(d), m_l = hn::Set(d, M_l), m_b = hn::Set(d, M_b);
+  const V zero = hn::Zero(d), m_b = hn::Set(d, M_b);
   for (int s = 0; s < slots; s += int(hn::Lanes(d))) {
+    const V m_l = hn::Load(d, M_l + s);
     Stream r = empty_stream(d);
     for (int k = 0; k < count; ++k) {
       const size_t at = size_t(k) * kLaneSlots + size_t(s);
@@ -121,7 +122,7 @@ HWY_EXPORT(CombinePairwiseLanes);
 HWY_EXPORT(ResampleLightCandidatesLanes);
 
 void resample_light_candidates_lanes(const CandidateLanes* planes, const float* p_light, const float* u, int count,
-                                     float M_l, float M_b, int slots, StreamLanes& out) {
+                                     const float* M_l, float M_b, int slots, StreamLanes& out) {
   HWY_DYNAMIC_DISPATCH(ResampleLightCandidatesLanes)(planes, p_light, u, count, M_l, M_b, slots, out);
 }
 

@@ -28,18 +28,26 @@ static void drop_occluded_samples(const std::vector<DiVisibility>& visibility, s
     if (visibility[i].valid && !visibility[i].visible) reservoirs[i].W = reservoirs[i].w_sum = 0.0f;
 }
 
-// Stages "<prefix>_temporal" (first pass of a frame, once there is history), "<prefix>_boiling_filter"
+bool Restir::find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
+                          const DiReuseParams& reuse, int key, int pass, ReservoirChain& chain,
+                          FrameStats& stats) const {
+  if (!reuse.temporal || pass != 0 || chain.history.size() != g.size()) return false;
+  StageTimer timer(stats, prefix + "_history");
+  di_find_history(g, current_domain(frame, g), previous_domain(frame, g), reuse, key, chain.history_pixel);
+  return true;
+}
+
+// Stages "<prefix>_temporal" (where find_history ran), "<prefix>_boiling_filter"
 // (optional), "<prefix>_spatial" (per spatial pass) and "<prefix>_shade": reuses chain.initial across
 // frames and pixels and adds one estimate per pixel into the sum (plus emission seen and `unsampled`,
 // when given; the shade stage also drops occluded samples, with drop_occluded); the final reservoirs and
 // shadow-ray verdicts become the chain's history, by swapping buffers (every stage rewrites its output
 // buffer whole, so nothing stale survives the swap).
 void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame,
-                             const std::string& prefix, const DiReuseParams& reuse, int key, int pass,
+                             const std::string& prefix, const DiReuseParams& reuse, int key, int pass, bool temporal,
                              const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats, Image& sum) {
   const DiDomain current = current_domain(frame, g), previous = previous_domain(frame, g);
   std::vector<DiReservoir>* result = &chain.initial;
-  const bool temporal = reuse.temporal && pass == 0 && chain.history.size() == g.size();
   if (temporal) {
     StageTimer timer(stats, prefix + "_temporal");
     di_temporal_reuse(view, g, current, previous, *result, chain.history, reuse, key, chain.temporal,

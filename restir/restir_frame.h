@@ -71,8 +71,13 @@ class Restir {
   DiDomain previous_domain(const RestirFrame& frame, const GBuffer& g) const;
 
  private:
+  // Stage "<prefix>_history" where this pass reuses the chain's history (the first pass of a frame, with temporal
+  // reuse on and a history of this size): di_find_history into chain.history_pixel. Returns whether it ran.
+  bool find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix, const DiReuseParams& reuse,
+                    int key, int pass, ReservoirChain& chain, FrameStats& stats) const;
+  // `temporal`: find_history ran.
   void reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
-                       const DiReuseParams& reuse, int key, int pass, const std::vector<vec3>* unsampled,
+                       const DiReuseParams& reuse, int key, int pass, bool temporal, const std::vector<vec3>* unsampled,
                        ReservoirChain& chain, FrameStats& stats, Image& sum);
 
   RestirSettings settings_;
@@ -96,13 +101,17 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
       light_tiles_.build(view, sampler, g, params.light_tiles, params.light_tile_size, params.seed, key);
       tiles = &light_tiles_;
     }
-    {
-      StageTimer timer(stats, "di_candidates");
-      di_initial_candidates(view, sampler, g, current, params, key, di_.initial, unsampled_, timer.rays(), tiles);
-    }
     DiReuseParams reuse = settings_.di_reuse;
     reuse.seed = settings_.seed;
-    reuse_and_shade(view, g, frame, "di", reuse, key, pass, &unsampled_, di_, stats, sum);
+    // Temporal reuse's history found first: the light candidates take fewer where it is
+    // (DiParams::history_light_candidates).
+    const bool temporal = find_history(g, frame, "di", reuse, key, pass, di_, stats);
+    {
+      StageTimer timer(stats, "di_candidates");
+      di_initial_candidates(view, sampler, g, current, params, key, di_.initial, unsampled_, timer.rays(), tiles,
+                            temporal ? &di_.history_pixel : nullptr);
+    }
+    reuse_and_shade(view, g, frame, "di", reuse, key, pass, temporal, &unsampled_, di_, stats, sum);
   }
   if (!settings_.with_gi) return;
   GiParams params = settings_.gi;
@@ -113,7 +122,8 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
   }
   DiReuseParams reuse = settings_.gi_reuse;
   reuse.seed = params.seed;
-  reuse_and_shade(view, g, frame, "gi", reuse, key, pass, nullptr, gi_, stats, sum);
+  const bool temporal = find_history(g, frame, "gi", reuse, key, pass, gi_, stats);
+  reuse_and_shade(view, g, frame, "gi", reuse, key, pass, temporal, nullptr, gi_, stats, sum);
 }
 
 }  // namespace candela
