@@ -89,9 +89,9 @@ int64_t di_reprojected_pixel(const GBuffer& g, const DiDomain& current, const Di
 
 // Stage "di_history", temporal reuse's first half: for every pixel, its reprojected pixel (di_reprojected_pixel)
 // where that holds a similar surface last frame (similar_surfaces; in lanes with params.simd), else -1 (everywhere
-// without last frame's surfaces), into
-// `history_pixel`, sized here. Before the light candidates, which take fewer where history is found
-// (DiParams::history_light_candidates). Cost per pixel: a reprojection and one packed surface of last frame read.
+// without last frame's surfaces), into `history_pixel`, sized here. It runs before the light candidates, which take
+// fewer where history is found (DiParams::history_light_candidates). Cost per pixel: a reprojection and one packed
+// surface of last frame read.
 void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& previous, const DiReuseParams& params,
                      int frame, std::vector<int32_t>& history_pixel);
 

@@ -19,10 +19,9 @@ struct StreamLanes {
 
 // The light candidates of slots [0, slots) streamed into empty reservoirs: candidate k of slot s (plane k's
 // target and BSDF area density, p_light and u at [k * kLaneSlots + s]) has the balance heuristic's weight
-// w = p_hat / (M_l p_light + M_b p_bsdf) (Talbot et al. 2005; M_l: the slot's, 64-byte aligned) where p_light > 0
-// and p_hat > 0, and is kept
-// with probability w / w_sum. p_light and u need no alignment. Cost per candidate: a division and 5 flops, in
-// lanes.
+// w = p_hat / (M_l p_light + M_b p_bsdf) (Talbot et al. 2005; M_l[s]: the slot's count) where p_light > 0 and
+// p_hat > 0, and is kept with probability w / w_sum. M_l is 64-byte aligned; p_light and u need no alignment. Cost
+// per candidate: a division and 5 flops, in lanes.
 void resample_light_candidates_lanes(const CandidateLanes* planes, const float* p_light, const float* u, int count,
                                      const float* M_l, float M_b, int slots, StreamLanes& out);
 
