@@ -336,6 +336,23 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
   return traced;
 }
 
+// Last frame's pixel under pixel (x, y) = i's surface point (di_find_history), or -1; whether its surface is similar
+// is tested apart.
+int64_t reprojected_pixel(const GBuffer& g, const DiDomain& current, const DiReuseParams& params, int frame, size_t i,
+                          int x, int y) {
+  if (!g.hit(i) || current.surfaces[i].roughness() < params.min_roughness) return -1;
+  vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
+  if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return -1;
+  int px = int(p.x), py = int(p.y);
+  if (params.permutation_sampling) {
+    uint64_t pattern = mix64(params.seed ^ uint64_t(frame));
+    px ^= int(pattern & 1);
+    py ^= int((pattern >> 1) & 1);
+  }
+  if (px < 0 || py < 0 || px >= g.width || py >= g.height) return -1;
+  return int64_t(py) * g.width + px;
+}
+
 }  // namespace
 
 bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const DiReuseParams& p) {
@@ -356,21 +373,6 @@ void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count
     weights[role] = mis_weight(view, inputs, targets, count, source, role, y, p_hat_here, params, rays);
 }
 
-int64_t di_reprojected_pixel(const GBuffer& g, const DiDomain& current, const DiReuseParams& params, int frame,
-                             size_t i, int x, int y) {
-  if (!g.hit(i) || current.surfaces[i].roughness() < params.min_roughness) return -1;
-  vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
-  if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(g.width) && p.y < float(g.height))) return -1;
-  int px = int(p.x), py = int(p.y);
-  if (params.permutation_sampling) {
-    uint64_t pattern = mix64(params.seed ^ uint64_t(frame));
-    px ^= int(pattern & 1);
-    py ^= int((pattern >> 1) & 1);
-  }
-  if (px < 0 || py < 0 || px >= g.width || py >= g.height) return -1;
-  return int64_t(py) * g.width + px;
-}
-
 void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& previous, const DiReuseParams& params,
                      int frame, std::vector<int32_t>& history_pixel) {
   if (previous.surfaces.size() != g.size()) {  // no surfaces last frame: nothing to reuse
@@ -385,7 +387,7 @@ void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& 
       const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
       int32_t* found = history_pixel.data() + first;
       for (int s = 0; s < slots; ++s)
-        found[s] = int32_t(di_reprojected_pixel(g, current, params, frame, first + size_t(s), tile.x0 + s, y));
+        found[s] = int32_t(reprojected_pixel(g, current, params, frame, first + size_t(s), tile.x0 + s, y));
       if (params.simd) {
         for (int s = 0; s < slots; ++s) {
           lanes.set(s, current.surfaces[first + size_t(s)]);

@@ -81,14 +81,10 @@ struct DiReuseInput {
 // similar_neighbour_lanes (neighbour_lanes.h), which the stages use with params.simd.
 bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const DiReuseParams& params);
 
-// Last frame's pixel under pixel (x, y) = i's surface point, reprojected with the motion vectors (which start at
-// the jittered film position; with params.permutation_sampling, moved to a neighbour by the frame's pattern), or
-// -1: no hit, smoother than params.min_roughness, or off screen. Whether its surface is similar is tested apart.
-int64_t di_reprojected_pixel(const GBuffer& g, const DiDomain& current, const DiReuseParams& params, int frame,
-                             size_t i, int x, int y);
-
-// Stage "di_history", temporal reuse's first half: for every pixel, its reprojected pixel (di_reprojected_pixel)
-// where that holds a similar surface last frame (similar_surfaces; in lanes with params.simd), else -1 (everywhere
+// Stage "di_history", temporal reuse's first half: for every pixel, last frame's pixel under its surface point
+// (reprojected with the motion vectors; with params.permutation_sampling moved to a neighbour by the frame's
+// pattern; none where it has no hit, is smoother than params.min_roughness or leaves the screen), where that
+// holds a similar surface last frame (similar_surfaces; in lanes with params.simd), else -1 (everywhere
 // without last frame's surfaces), into `history_pixel`, sized here. It runs before the light candidates, which take
 // fewer where history is found (DiParams::history_light_candidates). Cost per pixel: a reprojection and one packed
 // surface of last frame read.

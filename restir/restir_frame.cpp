@@ -44,7 +44,7 @@ bool Restir::find_history(const GBuffer& g, const RestirFrame& frame, const std:
 // shadow-ray verdicts become the chain's history, by swapping buffers (every stage rewrites its output
 // buffer whole, so nothing stale survives the swap).
 void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame,
-                             const std::string& prefix, const DiReuseParams& reuse, int key, int pass, bool temporal,
+                             const std::string& prefix, const DiReuseParams& reuse, int key, bool temporal,
                              const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats, Image& sum) {
   const DiDomain current = current_domain(frame, g), previous = previous_domain(frame, g);
   std::vector<DiReservoir>* result = &chain.initial;

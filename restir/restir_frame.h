@@ -77,7 +77,7 @@ class Restir {
                     int key, int pass, ReservoirChain& chain, FrameStats& stats) const;
   // `temporal`: find_history ran.
   void reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
-                       const DiReuseParams& reuse, int key, int pass, bool temporal, const std::vector<vec3>* unsampled,
+                       const DiReuseParams& reuse, int key, bool temporal, const std::vector<vec3>* unsampled,
                        ReservoirChain& chain, FrameStats& stats, Image& sum);
 
   RestirSettings settings_;
@@ -111,7 +111,7 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
       di_initial_candidates(view, sampler, g, current, params, key, di_.initial, unsampled_, timer.rays(), tiles,
                             temporal ? &di_.history_pixel : nullptr);
     }
-    reuse_and_shade(view, g, frame, "di", reuse, key, pass, temporal, &unsampled_, di_, stats, sum);
+    reuse_and_shade(view, g, frame, "di", reuse, key, temporal, &unsampled_, di_, stats, sum);
   }
   if (!settings_.with_gi) return;
   GiParams params = settings_.gi;
@@ -123,7 +123,7 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
   DiReuseParams reuse = settings_.gi_reuse;
   reuse.seed = params.seed;
   const bool temporal = find_history(g, frame, "gi", reuse, key, pass, gi_, stats);
-  reuse_and_shade(view, g, frame, "gi", reuse, key, pass, temporal, nullptr, gi_, stats, sum);
+  reuse_and_shade(view, g, frame, "gi", reuse, key, temporal, nullptr, gi_, stats, sum);
 }
 
 }  // namespace candela
