@@ -44,10 +44,12 @@ inline RoughnessTerms roughness_terms(D d, V roughness) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   const V r = min_of(max_of(roughness, hn::Set(d, 0.03f)), one);
   const V x = hn::Mul(min_of(max_of(roughness, zero), one), hn::Set(d, float(kGgxAlbedoRoughnessCount - 1)));
-  const VI k = hn::Min(hn::ConvertTo(di, x), hn::Set(di, kGgxAlbedoRoughnessCount - 2));
+  // Clamped below too, as albedo_at's column (a NaN roughness in a lane nobody reads).
+  const VI k = hn::Max(hn::Min(hn::ConvertTo(di, x), hn::Set(di, kGgxAlbedoRoughnessCount - 2)), hn::Zero(di));
   const V row_weight = hn::Sub(x, hn::ConvertTo(d, k));
-  auto average = [&](int j) { return hn::GatherIndex(d, kGgxAlbedoAverages, hn::Add(hn::Add(k, k), hn::Set(di, j))); };
-  const V avg_a0 = average(0), avg_b0 = average(1), avg_a1 = average(2), avg_b1 = average(3);
+  V avg_a0, avg_b0, avg_a1, avg_b1;
+  gather_pairs(d, kGgxAlbedoAveragePairs, k, avg_a0, avg_b0);
+  gather_pairs(d, kGgxAlbedoAveragePairs, hn::Add(k, hn::Set(di, 1)), avg_a1, avg_b1);
   return {hn::Mul(r, r), row_weight, hn::Add(avg_a0, hn::Mul(row_weight, hn::Sub(avg_a1, avg_a0))),
           hn::Add(avg_b0, hn::Mul(row_weight, hn::Sub(avg_b1, avg_b0))),
           hn::Mul(k, hn::Set(di, kGgxAlbedoMuCount * 2))};

@@ -2,6 +2,8 @@
 // The albedo table's layout, shared by its generator (ggx_albedo_gen.cpp, run at build time) and its reader
 // (ggx_albedo.h). Rows per roughness r = k / (kGgxAlbedoRoughnessCount - 1), columns per
 // sqrt(mu) = j / (kGgxAlbedoMuCount - 1), (a, b) per entry.
+#include <cstdint>
+
 namespace candela {
 
 inline constexpr int kGgxAlbedoMuCount = 32;
@@ -9,5 +11,9 @@ inline constexpr int kGgxAlbedoRoughnessCount = 64;
 
 extern const float kGgxAlbedoEntries[kGgxAlbedoRoughnessCount * kGgxAlbedoMuCount * 2];
 extern const float kGgxAlbedoAverages[kGgxAlbedoRoughnessCount * 2];  // (a_avg, b_avg) per roughness
+// The same two tables with each (a, b) pair's bits in one 64-bit word (a in the low half), for SIMD kernels that
+// fetch a pair with one 64-bit gather instead of two 32-bit ones (engine/lanes-inl.h gather_pairs).
+extern const uint64_t kGgxAlbedoEntryPairs[kGgxAlbedoRoughnessCount * kGgxAlbedoMuCount];
+extern const uint64_t kGgxAlbedoAveragePairs[kGgxAlbedoRoughnessCount];
 
 }  // namespace candela

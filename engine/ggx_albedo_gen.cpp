@@ -1,5 +1,8 @@
 // Build-time generator of the GGX albedo table (ggx_albedo.h): prints a C++ source file that defines
-// kGgxAlbedoEntries and kGgxAlbedoAverages. Run by CMake; its output is never edited or committed.
+// kGgxAlbedoEntries and kGgxAlbedoAverages, and their 64-bit pair copies. Run by CMake; its output is never edited or
+// committed.
+#include <bit>
+#include <cstdint>
 #include <cstdio>
 #include <vector>
 
@@ -16,6 +19,12 @@ constexpr int kStrata = 64;
 struct Albedo {
   double a = 0.0, b = 0.0;
 };
+
+// The bits of (float(a), float(b)) as one 64-bit word, a in the low half (the float tables' pair, as a
+// little-endian load of its 8 bytes reads it).
+unsigned long long pair_bits(const Albedo& v) {
+  return uint64_t(std::bit_cast<uint32_t>(float(v.b))) << 32 | std::bit_cast<uint32_t>(float(v.a));
+}
 
 // (a, b) for one (mu, roughness): the integral over the visible-normal sampler's square of its weight
 // f1 cos / pdf = G2 / G1(wo) (Heitz 2018, eq. 19), by the midpoint rule on a kStrata x kStrata grid. The
@@ -70,7 +79,7 @@ int main() {
   using namespace candela;
   std::printf("// Generated at build time by ggx_albedo_gen (engine/ggx_albedo_gen.cpp). Do not edit.\n");
   std::printf("#include \"engine/ggx_albedo_data.h\"\n\nnamespace candela {\n\n");
-  std::vector<Albedo> averages;
+  std::vector<Albedo> averages, entries;
   std::printf("const float kGgxAlbedoEntries[%d] = {\n", kRough * kMu * 2);
   for (int k = 0; k < kRough; ++k) {
     float alpha = ggx_alpha(float(k) / (kRough - 1));
@@ -78,12 +87,18 @@ int main() {
     for (int j = 0; j < kMu; ++j) {
       double x = double(j) / (kMu - 1);
       row.push_back(integrate(float(x * x), alpha));
+      entries.push_back(row.back());
       std::printf("%.9gf, %.9gf,%s", float(row.back().a), float(row.back().b), j % 4 == 3 ? "\n" : " ");
     }
     averages.push_back(average(row));
   }
   std::printf("};\n\nconst float kGgxAlbedoAverages[%d] = {\n", kRough * 2);
   for (const Albedo& avg : averages) std::printf("%.9gf, %.9gf,\n", float(avg.a), float(avg.b));
+  std::printf("};\n\nconst uint64_t kGgxAlbedoEntryPairs[%d] = {\n", kRough * kMu);
+  for (size_t e = 0; e < entries.size(); ++e)
+    std::printf("0x%016llxull,%s", pair_bits(entries[e]), e % 4 == 3 ? "\n" : " ");
+  std::printf("};\n\nconst uint64_t kGgxAlbedoAveragePairs[%d] = {\n", kRough);
+  for (const Albedo& avg : averages) std::printf("0x%016llxull,\n", pair_bits(avg));
   std::printf("};\n\n}  // namespace candela\n");
   return 0;
 }

@@ -91,18 +91,36 @@ inline void sin_cos(D d, V x, V& s, V& c) {
   c = hn::IfThenElse(bit(hn::Add(q, hn::Set(di, 1)), 2), hn::Neg(c), c);
 }
 
+// Per lane, the pair table[index] (a 64-bit word, engine/ggx_albedo_data.h) split into its low and high floats.
+// One 64-bit gather fetches what two 32-bit gathers did: gathers cost per element (on this project's AMD machine a
+// 16-lane 32-bit gather took ~4 ns), so the albedo lookup's eight 16-element gathers became eight of 8 elements.
+inline void gather_pairs(D d, const uint64_t* table, VI index, V& low, V& high) {
+  const DU du;
+  const hn::Half<DI> dh;
+  const hn::RepartitionToWide<DI> d64;
+  const hn::RebindToUnsigned<decltype(d64)> du64;
+  const VU lower = hn::BitCast(du, hn::GatherIndex(du64, table, hn::PromoteTo(d64, hn::LowerHalf(dh, index))));
+  const VU upper = hn::BitCast(du, hn::GatherIndex(du64, table, hn::PromoteTo(d64, hn::UpperHalf(dh, index))));
+  low = hn::BitCast(d, hn::ConcatEven(du, upper, lower));
+  high = hn::BitCast(d, hn::ConcatOdd(du, upper, lower));
+}
+
 // GgxAlbedoRow::at: the (a, b) albedo pair at cos_theta, bilinear in sqrt(mu) and roughness, from the
-// row offset and weight of the receiver's roughness.
+// row offset (in floats of kGgxAlbedoEntries) and weight of the receiver's roughness.
 inline void albedo_at(D d, V cos_theta, VI row, V weight, V& a, V& b) {
   const DI di;
   const V x = hn::Mul(hn::Sqrt(min_of(max_of(cos_theta, hn::Zero(d)), hn::Set(d, 1.0f))),
                       hn::Set(d, float(kGgxAlbedoMuCount - 1)));
-  const VI j = hn::Min(hn::ConvertTo(di, x), hn::Set(di, kGgxAlbedoMuCount - 2));
+  // Clamped below too: a NaN cosine (a lane nobody reads) converts to INT_MIN, which must stay a valid index.
+  const VI j = hn::Max(hn::Min(hn::ConvertTo(di, x), hn::Set(di, kGgxAlbedoMuCount - 2)), hn::Zero(di));
   const V s = hn::Sub(x, hn::ConvertTo(d, j));
-  const VI i0 = hn::Add(row, hn::Add(j, j)), i1 = hn::Add(i0, hn::Set(di, 2 * kGgxAlbedoMuCount));
-  auto at = [&](VI i, int k) { return hn::GatherIndex(d, kGgxAlbedoEntries, hn::Add(i, hn::Set(di, k))); };
-  const V a00 = at(i0, 0), b00 = at(i0, 1), a01 = at(i0, 2), b01 = at(i0, 3);
-  const V a10 = at(i1, 0), b10 = at(i1, 1), a11 = at(i1, 2), b11 = at(i1, 3);
+  // The four pairs around (row, j), as kGgxAlbedoEntryPairs indices.
+  const VI p0 = hn::Add(hn::ShiftRight<1>(row), j), p1 = hn::Add(p0, hn::Set(di, kGgxAlbedoMuCount));
+  V a00, b00, a01, b01, a10, b10, a11, b11;
+  gather_pairs(d, kGgxAlbedoEntryPairs, p0, a00, b00);
+  gather_pairs(d, kGgxAlbedoEntryPairs, hn::Add(p0, hn::Set(di, 1)), a01, b01);
+  gather_pairs(d, kGgxAlbedoEntryPairs, p1, a10, b10);
+  gather_pairs(d, kGgxAlbedoEntryPairs, hn::Add(p1, hn::Set(di, 1)), a11, b11);
   const V a0 = hn::Add(a00, hn::Mul(s, hn::Sub(a01, a00))), b0 = hn::Add(b00, hn::Mul(s, hn::Sub(b01, b00)));
   const V a1 = hn::Add(a10, hn::Mul(s, hn::Sub(a11, a10))), b1 = hn::Add(b10, hn::Mul(s, hn::Sub(b11, b10)));
   a = hn::Add(a0, hn::Mul(weight, hn::Sub(a1, a0)));
