@@ -90,8 +90,8 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
             int32_t j = reusing ? (*reuse.history_pixel)[i] : -1;
             const DiVisibility* old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
             if (!(old && old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv)) {
-              const LightSample light = di_light_sample(view.lights, g.position[i], r.y);
-              queue.add(shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], light), {i, L, value * r.W});
+              queue.add(di_shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], view.lights, r.y),
+                        {i, L, value * r.W});
               continue;
             }
             v.visible = old->visible;

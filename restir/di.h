@@ -121,15 +121,24 @@ inline bool di_stored_point(const LightList& lights, const DiSample& s) {
   return s.light < lights.triangle_count() || s.light == kSurfacePointSample;
 }
 // The light sample that sample s gives at point p (direction, distance, its point's normal and radiance):
-// the stored point's, or for a punctual light the one `lights` places. A shadow ray needs nothing else.
+// the stored point's, or for a punctual light the one `lights` places.
 inline LightSample di_light_sample(const LightList& lights, const vec3& p, const DiSample& s) {
   return di_stored_point(lights, s) ? light_sample_towards(s.point, p) : lights.sample_punctual(s.light, p);
 }
 
-// The shadow ray from a packed surface, of a frame whose lights are `lights`, to sample s placed by them.
+// The shadow ray from p (geometric normal ng), of a frame whose lights are `lights`, to sample s placed by them,
+// where s contributes there (a positive target or contribution at p): shadow_ray of di_light_sample's sample. A
+// stored point's ray is the segment to it, which needs neither the direction nor the distance: built straight
+// from the point (di_light_sample's sample, a 64-byte struct, cost more than the segment).
+inline Ray di_shadow_ray(const Tracer& tracer, const vec3& p, const vec3& ng, const LightList& lights,
+                         const DiSample& s) {
+  if (di_stored_point(lights, s)) return tracer.spawn_ray_to(p, ng, s.point.position, s.point.normal);
+  return shadow_ray(tracer, p, ng, lights.sample_punctual(s.light, p));
+}
+// The same from a packed surface.
 inline Ray di_shadow_ray(const Tracer& tracer, const PackedSurface& surface, const LightList& lights,
                          const DiSample& s) {
-  return shadow_ray(tracer, surface.position, surface.geometric_n(), di_light_sample(lights, surface.position, s));
+  return di_shadow_ray(tracer, surface.position, surface.geometric_n(), lights, s);
 }
 
 // The unshadowed contribution of a light sample to a G-buffer pixel, in area measure:

@@ -70,6 +70,8 @@ void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& 
     std::vector<GiStart> starts;
     std::vector<PathState> paths;
     std::vector<Rng> rngs;
+    const size_t pixels = size_t(tile.x1 - tile.x0) * size_t(tile.y1 - tile.y0);  // at most one path each
+    starts.reserve(pixels), paths.reserve(pixels), rngs.reserve(pixels);
     for (int y = tile.y0; y < tile.y1; ++y)
       gi_first_rays(view, g, domain, params, frame, tile.x0, tile.x1, y, out, starts, paths, rngs);
     // The tile's paths, to their ends; x_s is each path's first hit.
