@@ -60,11 +60,11 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
       if (simd) {
+        lanes.surfaces.set_row(g, first, slots);
         for (int s = 0; s < slots; ++s) {
           const size_t i = first + size_t(s);
           const DiReservoir& r = reservoirs[i];
           if (y + 1 < tile.y1) prefetch_object(reservoirs[i + size_t(g.width)]);  // the tile's next row
-          lanes.surfaces.set(s, g, i);
           if (g.hit(i) && r.W > 0.0f && di_stored_point(view.lights, r.y))
             lanes.samples.set(s, r.y.point);
           else

@@ -20,9 +20,8 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
   thread_local Row row;
   const int slots = x1 - x0;
   const size_t first = size_t(y) * size_t(g.width) + size_t(x0);
-  // The exact receivers of the row's hit pixels (wo, the BSDFs' terms) in lanes.
-  for (int s = 0; s < slots; ++s)
-    if (g.hit(first + size_t(s))) row.surfaces.set(s, g, first + size_t(s));
+  // The exact receivers of the row's pixels (wo, the BSDFs' terms) in lanes (those without a hit go unread).
+  row.surfaces.set_row(g, first, slots);
   build_exact_receivers(row.surfaces, domain.eye, slots, row.receivers);
   // Per hit pixel: the uniforms of its first direction, drawn from its BSDF (the random numbers in the order the
   // scalar code drew them: the direction's two, the tag's two, the lobe's and the reservoir's uniform), every

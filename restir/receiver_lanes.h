@@ -21,6 +21,11 @@ struct SurfaceLanes {
     shading_normal[slot] = s.shading_normal, geometric_normal[slot] = s.geometric_normal;
     albedo[slot] = s.albedo, material[slot] = s.material;
   }
+  // Slots [0, count) from the consecutive surfaces at `from` (a tile row's), as set() of each: one loop that
+  // only transposes, which the compiler vectorises (set() inside a loop doing more stays one scalar store per field).
+  void set_row(const PackedSurface* __restrict from, int count) {
+    for (int s = 0; s < count; ++s) set(s, from[s]);
+  }
 };
 
 // Slots [0, slots) of `out`: position, geometric normal, wo and the `target` BSDF planes of the receivers
@@ -30,16 +35,25 @@ struct SurfaceLanes {
 // gathers, in lanes.
 void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out);
 
-// Exact G-buffer surfaces gathered into one plane per field (slot s: one pixel; set() transposes).
+// Exact G-buffer surfaces gathered into one plane per field (slot s: one pixel; set_row() transposes).
 struct ExactSurfaceLanes {
   alignas(64) float px[kLaneSlots], py[kLaneSlots], pz[kLaneSlots];
   alignas(64) float gx[kLaneSlots], gy[kLaneSlots], gz[kLaneSlots];  // geometric normal
   BsdfMaterialLanes material;                                        // shading normal and material
-  void set(int slot, const GBuffer& g, size_t i) {
-    px[slot] = g.position[i].x, py[slot] = g.position[i].y, pz[slot] = g.position[i].z;
-    gx[slot] = g.geometric_normal[i].x, gy[slot] = g.geometric_normal[i].y, gz[slot] = g.geometric_normal[i].z;
-    material.set(slot, g.shading_normal[i], g.albedo[i], g.material[i].y, g.material[i].x, g.material[i].z,
-                 g.specular_f0[i]);
+  // Slots [0, count) from the consecutive pixels [first, first + count) (a tile row): one transposing loop over
+  // plane pointers the compiler knows apart from the lanes, which it vectorises.
+  void set_row(const GBuffer& g, size_t first, int count) {
+    const vec3* __restrict p = g.position.data() + first;
+    const vec3* __restrict ng = g.geometric_normal.data() + first;
+    const vec3* __restrict ns = g.shading_normal.data() + first;
+    const vec3* __restrict base = g.albedo.data() + first;
+    const vec3* __restrict m = g.material.data() + first;
+    const vec3* __restrict f0 = g.specular_f0.data() + first;
+    for (int s = 0; s < count; ++s) {
+      px[s] = p[s].x, py[s] = p[s].y, pz[s] = p[s].z;
+      gx[s] = ng[s].x, gy[s] = ng[s].y, gz[s] = ng[s].z;
+      material.set(s, ns[s], base[s], m[s].y, m[s].x, m[s].z, f0[s]);
+    }
   }
 };
 

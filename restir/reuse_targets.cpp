@@ -44,14 +44,15 @@ struct Planes {
   CandidateLanes inputs[kMaxReuseInputs];
 };
 
-// p_0(y_k) of every slot and input k >= 1: the combining pixels' receivers built once, every input's
-// sample placed in plane k (inactive where the slot has no input k), all planes in one call.
-void targets_at_combiners(const Scene& scene, const DiDomain& here, int slots, int max_count, ReuseRow& row,
-                          Planes& planes) {
+// p_0(y_k) of every slot and input k >= 1: the combining pixels' receivers built once (slot s combines pixel
+// first + s; a slot without inputs gets its pixel's receiver too, unread), every input's sample placed in plane
+// k (inactive where the slot has no input k), all planes in one call.
+void targets_at_combiners(const Scene& scene, const DiDomain& here, size_t first, int slots, int max_count,
+                          ReuseRow& row, Planes& planes) {
   for (int k = 1; k < max_count; ++k)
     for (int s = 0; s < slots; ++s)
       if (k < row.count[s]) prefetch_placed(row.inputs[k][s], here.lights);
-  for (int s = 0; s < slots; ++s) planes.surfaces.set(s, here.surfaces[row.count[s] > 0 ? row.inputs[0][s].pixel : 0]);
+  planes.surfaces.set_row(here.surfaces.data() + first, slots);
   for (int k = 1; k < max_count; ++k)
     for (int s = 0; s < slots; ++s) {
       if (k < row.count[s])
@@ -127,13 +128,17 @@ uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combin
   thread_local Planes planes;
   int max_count = 0;
   const DiDomain* here = nullptr;
+  size_t first = 0;  // the pixel of slot 0: the row's combining pixels are consecutive
   for (int s = 0; s < slots; ++s) {
     row.known_at[s] = row.known_of[s] = row.known_visible[s] = row.visible[s] = 0;
     max_count = std::max(max_count, row.count[s]);
-    if (row.count[s] > 0) here = row.inputs[0][s].domain;
+    if (row.count[s] == 0) continue;
+    here = row.inputs[0][s].domain;
+    first = row.inputs[0][s].pixel - size_t(s);
   }
   if (max_count < 2) return 0;
-  targets_at_combiners(view.scene, *here, slots, max_count, row, planes);
+  for (int s = 0; s < slots; ++s) CHECK(row.count[s] == 0 || row.inputs[0][s].pixel == first + size_t(s));
+  targets_at_combiners(view.scene, *here, first, slots, max_count, row, planes);
   return of_combiner ? targets_of_combiners(view, slots, max_count, visibility, row, planes) : 0;
 }
 

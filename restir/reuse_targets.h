@@ -19,11 +19,12 @@ namespace candela {
 inline constexpr int kMaxReuseInputs = 32;  // a pixel and up to 31 neighbours
 
 // One tile row of combinations as planes, input k of slot s at [k][s]: slot s combines inputs[0..count[s])[s]
-// (input 0: the pixel of the slot); every slot's input k (k >= 1) comes from the same domain, and all inputs 0
-// from the same one. The targets evaluated beforehand are planes of the same shape: bit k of known_at[s] says
-// at_combiner[k][s] = p_0(y_k) was evaluated, bit k of known_of[s] that of_combiner[k][s] = p_k(y_0) was, and
-// bit k of known_visible[s] that bit k of visible[s] says whether y_0 is visible from input k's surface. (Laid
-// out per slot, [s][k], every pass over one input of the row's slots touched a cache line per slot.)
+// (input 0: the pixel of the slot, and the slots' pixels are consecutive, a tile row's); every slot's input k
+// (k >= 1) comes from the same domain, and all inputs 0 from the same one. The targets evaluated beforehand are planes
+// of the same shape: bit k of known_at[s] says at_combiner[k][s] = p_0(y_k) was evaluated, bit k of known_of[s] that
+// of_combiner[k][s] = p_k(y_0) was, and bit k of known_visible[s] that bit k of visible[s] says whether y_0 is visible
+// from input k's surface. (Laid out per slot, [s][k], every pass over one input of the row's slots touched a cache line
+// per slot.)
 struct ReuseRow {
   int count[kLaneSlots];
   DiReuseInput inputs[kMaxReuseInputs][kLaneSlots];

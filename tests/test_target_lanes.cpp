@@ -231,7 +231,6 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
       g.material[size_t(s)] = vec3(factor(), factor(), factor());
       g.specular_f0[size_t(s)] = vec3(factor(), factor(), factor());
       g.instance[size_t(s)] = 0;
-      surfaces->set(s, g, size_t(s));
       const DiReceiver& r = receivers[size_t(s)] = di_exact_receiver(g, eye, lights, size_t(s));
       scalar->exact.set(s, r.bsdf.wo_terms(r.wo));
       lit += scalar->exact.cos_o[s] > 0.0f;
@@ -245,6 +244,7 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
       else
         points->set(s, point);
     }
+    surfaces->set_row(g, 0, kLaneSlots);
     for_each_simd_target([&](const char* target) {
       build_exact_receiver_lanes(*surfaces, eye, kLaneSlots, lanes->exact);
       build_exact_receivers(*surfaces, eye, kLaneSlots, *shading);
