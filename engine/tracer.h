@@ -104,6 +104,8 @@ class Tracer {
     return Ray{o, d / std::max(len, 1e-30f), 0.0f, len * (1.0f - 1e-4f)};
   }
   float scene_radius() const { return scene_radius_; }
+  // The scene-scale part of offset_point's offset (kernels that build spawn_ray_to's rays in lanes read it).
+  float offset_epsilon() const { return epsilon_; }
   // With a log, every query is recorded into it before it is traced (the benchmark's replay of a frame's rays,
   // engine/ray_log.h); null: none (the default). Not to be changed while queries run.
   void set_ray_log(RayLog* log) { log_ = log; }

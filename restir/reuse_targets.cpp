@@ -42,6 +42,7 @@ struct Planes {
   ReceiverLanes combiners, others;
   CandidateLanes own;
   CandidateLanes inputs[kMaxReuseInputs];
+  RayLanes rays;  // with visibility: from input k's surfaces to the combining pixels' samples
 };
 
 // p_0(y_k) of every slot and input k >= 1: the combining pixels' receivers built once (slot s combines pixel
@@ -107,15 +108,13 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
     }
     build_receiver_lanes(planes.surfaces, domain->eye, slots, planes.others);
     evaluate_candidate_lanes(planes.others, &planes.own, 1, slots, false);
+    // The shadow rays from input k's surfaces to y_0 as placed for them (di_shadow_ray's to a stored point).
+    if (visibility) shadow_ray_lanes(planes.others, planes.own, view.tracer.offset_epsilon(), slots, planes.rays);
     for (int s = 0; s < slots; ++s)
       if (k < row.count[s] && planes.own.active[s] > 0.0f) {
         row.of_combiner[k][s] = planes.own.p_hat[s];
         row.known_of[s] |= 1u << k;
-        if (!visibility || planes.own.p_hat[s] <= 0.0f) continue;
-        const PackedSurface& from = domain->surfaces[row.inputs[k][s].pixel];
-        // y_0 as placed for input k: a stored point (kSurfacePointSample: use the point as it is).
-        const DiSample y{kSurfacePointSample, vec2(0.0f), planes.own.point(s), 0};
-        queue.add(di_shadow_ray(view.tracer, from, domain->lights, y), uint32_t(s) << 8 | uint32_t(k));
+        if (visibility && planes.own.p_hat[s] > 0.0f) queue.add(planes.rays.ray(s), uint32_t(s) << 8 | uint32_t(k));
       }
   }
   queue.finish();

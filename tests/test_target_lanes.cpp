@@ -1,7 +1,7 @@
 // ReSTIR's SIMD lanes (restir/target_lanes.h, receiver_lanes.h, reuse_targets.h, neighbour_lanes.h, and the BSDF
 // directions of engine/bsdf_lanes.h) against the scalar
-// reference (di_contribution, Bsdf::eval, Bsdf::pdf): the kernel repeats the scalar operations in the same order
-// without fused multiply-adds, so the bound is exact equality (0 ulp), for p_hat and the BSDF's area
+// reference (di_contribution, Bsdf::eval, Bsdf::pdf, Tracer::spawn_ray_to): the kernel repeats the scalar operations in
+// the same order without fused multiply-adds, so the bound is exact equality (0 ulp), for p_hat and the BSDF's area
 // density alike (where p_hat > 0, the only place it is read); a kernel that fused a multiply-add or reordered a sum
 // fails here.
 #include <gtest/gtest.h>
@@ -387,6 +387,48 @@ TEST(TargetLanes, NeighbourSimilarityGivesTheScalarAnswers) {
               depth_edges, targets.c_str());
   EXPECT_GT(similar, pairs / 5) << "too few similar pairs to test the normal's cosine";
   EXPECT_LT(similar, pairs * 4 / 5) << "too few pairs rejected";
+}
+
+// Shadow rays built in lanes (shadow_ray_lanes, reuse's visibility rays) against Tracer::spawn_ray_to: the same
+// bits for every ray, on receivers and points at the scales of a scene whose offset epsilon is the city's, with
+// ends close together, far apart and on either side of each other's normals.
+TEST(TargetLanes, ShadowRaysGiveTheScalarBits) {
+  const Scene scene = make_builtin_scene("city");
+  const Tracer tracer(scene);
+  Rng rng(977, 3);
+  auto from = std::make_unique<ReceiverLanes>();
+  auto to = std::make_unique<CandidateLanes>();
+  auto rays = std::make_unique<RayLanes>();
+  std::vector<Ray> scalar(kLaneSlots);
+  int compared = 0;
+  std::string targets;
+  for (int batch = 0; batch < 60; ++batch) {
+    const float scale = batch % 3 == 0 ? 0.01f : batch % 3 == 1 ? 1.0f : 300.0f;
+    for (int s = 0; s < kLaneSlots; ++s) {
+      const vec3 p = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * scale;
+      const vec3 q = p + random_unit(rng) * scale * (rng.next_float() < 0.2f ? 1e-3f : rng.next_float());
+      const vec3 ng = random_unit(rng), nq = random_unit(rng);
+      from->px[s] = p.x, from->py[s] = p.y, from->pz[s] = p.z;
+      from->gx[s] = ng.x, from->gy[s] = ng.y, from->gz[s] = ng.z;
+      to->set(s, LightPoint{q, nq, vec3(1.0f), false});
+      scalar[size_t(s)] = tracer.spawn_ray_to(p, ng, q, nq);
+    }
+    for_each_simd_target([&](const char* target) {
+      if (batch == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
+      shadow_ray_lanes(*from, *to, tracer.offset_epsilon(), kLaneSlots, *rays);
+      for (int s = 0; s < kLaneSlots; ++s) {
+        const Ray lanes = rays->ray(s), &ref = scalar[size_t(s)];
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_TRUE(same_bits(lanes.origin[c], ref.origin[c])) << target << ", batch " << batch << " slot " << s;
+          ASSERT_TRUE(same_bits(lanes.direction[c], ref.direction[c]))
+              << target << ", batch " << batch << " slot " << s;
+        }
+        ASSERT_TRUE(same_bits(lanes.tmax, ref.tmax)) << target << ", batch " << batch << " slot " << s;
+        ++compared;
+      }
+    });
+  }
+  std::printf("  %d rays compared on %s\n", compared, targets.c_str());
 }
 
 // The whole chain on rendered frames: the reservoirs after 3 frames of candidates and reuse are the same
