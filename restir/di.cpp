@@ -34,8 +34,9 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
     else
       non_finite.add(1);
   };
-  // Per tile row: the samples' unshadowed contributions at the exact receivers, in lanes where the sample
-  // stores its point (with simd; else, and for punctual lights, di_contribution one pixel at a time), then
+  // Per tile row: the samples' unshadowed contributions at the exact receivers and their shadow rays, in lanes where
+  // the sample stores its point (with simd; else, and for punctual lights, di_contribution and di_shadow_ray one pixel
+  // at a time), then
   // each pixel's estimate, whose shadow rays go out 16 at a time in pixel order (rtcOccluded16):
   // neighbouring pixels' rays towards nearby lights share much of their traversal.
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
@@ -44,6 +45,7 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
       ReceiverLanes receivers;
       CandidateLanes samples;
       ContributionLanes contributions;
+      RayLanes rays;  // to the stored points, from the exact receivers (di_shadow_ray's)
     };
     thread_local Lanes lanes;
     struct Pending {
@@ -72,6 +74,7 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         }
         build_exact_receivers(lanes.surfaces, view.camera.position(), slots, lanes.receivers);
         evaluate_exact_contribution_lanes(lanes.receivers, lanes.samples, slots, lanes.contributions);
+        shadow_ray_lanes(lanes.receivers, lanes.samples, view.tracer.offset_epsilon(), slots, lanes.rays);
       }
       for (int s = 0; s < slots; ++s) {
         const size_t i = first + size_t(s);
@@ -79,18 +82,19 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         const DiReservoir& r = reservoirs[i];
         visibility[i] = DiVisibility{};
         if (g.hit(i) && r.W > 0.0f) {
+          const bool in_lanes = simd && lanes.samples.active[s] > 0.0f;
           const vec3 value =
-              simd && lanes.samples.active[s] > 0.0f
-                  ? vec3(lanes.contributions.value[0][s], lanes.contributions.value[1][s],
-                         lanes.contributions.value[2][s])
-                  : di_contribution(di_exact_receiver(g, view.camera.position(), view.lights, i), r.y).value;
+              in_lanes ? vec3(lanes.contributions.value[0][s], lanes.contributions.value[1][s],
+                              lanes.contributions.value[2][s])
+                       : di_contribution(di_exact_receiver(g, view.camera.position(), view.lights, i), r.y).value;
           if (max_component(value) > 0.0f) {
             DiVisibility& v = visibility[i];
             v = {r.y.light, r.y.uv, true, false, 0};
             int32_t j = reusing ? (*reuse.history_pixel)[i] : -1;
             const DiVisibility* old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
             if (!(old && old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv)) {
-              queue.add(di_shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], view.lights, r.y),
+              queue.add(in_lanes ? lanes.rays.ray(s)
+                                 : di_shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], view.lights, r.y),
                         {i, L, value * r.W});
               continue;
             }
