@@ -36,8 +36,7 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
   };
   // Per tile row: the samples' unshadowed contributions at the exact receivers and their shadow rays, in lanes where
   // the sample stores its point (with simd; else, and for punctual lights, di_contribution and di_shadow_ray one pixel
-  // at a time), then
-  // each pixel's estimate, whose shadow rays go out 16 at a time in pixel order (rtcOccluded16):
+  // at a time), then each pixel's estimate, whose shadow rays go out 16 at a time in pixel order (rtcOccluded16):
   // neighbouring pixels' rays towards nearby lights share much of their traversal.
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     struct Lanes {
