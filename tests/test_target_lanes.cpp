@@ -389,8 +389,8 @@ TEST(TargetLanes, NeighbourSimilarityGivesTheScalarAnswers) {
   EXPECT_LT(similar, pairs * 4 / 5) << "too few pairs rejected";
 }
 
-// Shadow rays built in lanes (shadow_ray_lanes, reuse's visibility rays) against Tracer::spawn_ray_to: the same
-// bits for every ray, on receivers and points at the scales of a scene whose offset epsilon is the city's, with
+// Shadow rays built in lanes (shadow_ray_lanes: reuse's visibility rays, shading's) against Tracer::spawn_ray_to: the
+// same bits for every ray, on receivers and points at the scales of a scene whose offset epsilon is the city's, with
 // ends close together, far apart and on either side of each other's normals.
 TEST(TargetLanes, ShadowRaysGiveTheScalarBits) {
   const Scene scene = make_builtin_scene("city");
