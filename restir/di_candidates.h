@@ -109,8 +109,9 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     b.receiver_built = b.target_built = false;
     for (int k = 0; k < K; ++k) batch.planes[size_t(k)].clear(s);
   }
+  // The row's packed surfaces, and with params.simd its exact ones (the exact BSDFs' terms are built in lanes).
   batch.surfaces.set_row(domain.surfaces.data() + row, slots);
-  if (params.simd) batch.exact_surfaces.set_row(g, row, slots);       // the exact BSDF's terms are built in lanes
+  if (params.simd) batch.exact_surfaces.set_row(g, row, slots);
   batch.streams.key(slots, params.seed, row, uint64_t(frame), 0xd1);  // Rng::for_key(seed, pixel, frame, 0xd1)
   // The candidates' uniforms, in the order one candidate at a time would draw them: per candidate, a tile
   // entry and the resampling uniform, or the light choice (2), the point (2) and the resampling uniform.
