@@ -2,19 +2,22 @@
 // Many paths traced together, bounce by bounce ("wavefront" order): each bounce traces the closest hits of
 // every live path in packets of 16, runs path_bounce's steps on groups of paths (bounce_paths), then traces
 // the bounce's shadow rays in packets. Each path keeps its own random stream, and the steps are trace_path's
-// own with the BSDF's arithmetic in SIMD lanes that repeat the scalar code's, so every path gets trace_path's
-// bits (test PathBatch.GivesTracePathBits); what changes is the cost: packets instead of single rays, the BSDF
-// work in lanes, and one path's memory waits overlapping the next path's arithmetic.
+// own with the BSDF's arithmetic and the triangle lights' samples in SIMD lanes that repeat the scalar code's, so
+// every path gets trace_path's bits (test PathBatch.GivesTracePathBits); what changes is the cost: packets instead of
+// single rays, the BSDF and next-event work in lanes, and one path's memory waits overlapping the next path's
+// arithmetic.
 #include <vector>
 
 #include "engine/bsdf_lanes.h"
 #include "engine/gbuffer_lanes.h"
+#include "engine/nee_lanes.h"
 #include "engine/path_tracer.h"
 
 namespace candela {
 
-// A group of up to kLaneSlots paths in one bounce: their vertices, and the BSDF work of path_bounce in lanes
-// (the BSDFs' terms, the light samples' and the BSDF samples' values and densities).
+// A group of up to kLaneSlots paths in one bounce: their vertices, and the work of path_bounce in lanes (the BSDFs'
+// terms, the light samples of plain triangle lights with their weights and shadow rays, the light samples' and the
+// BSDF samples' values and densities).
 struct PathVertexBatch {
   SurfacePoint scratch[kLaneSlots];         // the surfaces arrive_at_vertex computes
   const SurfacePoint* sp[kLaneSlots] = {};  // the scattering vertices' surfaces (arrive_at_vertex's answer)
@@ -22,7 +25,8 @@ struct PathVertexBatch {
   vec2 u_choice[kLaneSlots];                // the light choice's uniforms
   LightChoice choice[kLaneSlots];           // the chosen light and the point's uniforms
   float pmf[kLaneSlots] = {};               // the light sample's selection probability
-  LightSample light_sample[kLaneSlots];
+  LightSample light_sample[kLaneSlots];     // the samples of the lights nee_lanes leaves to the scalar code
+  NeeLanes nee;                             // the samples of plain triangle lights
   BsdfVertexLanes vertices;
   BsdfLanes bsdf;
   BsdfUniformLanes uniforms;   // the BSDF samples' uniforms
@@ -31,11 +35,12 @@ struct PathVertexBatch {
 
 // path_bounce for the paths group[0, count) whose rays reached hits[group[j]], in its steps, each over the
 // group: arrive_at_vertex (the surface surfaces[j] where `instances` says the lanes computed it), the BSDFs'
-// terms in lanes, the light samples and the BSDF directions' uniforms (each path's random numbers in
-// path_bounce's order), the BSDF directions in lanes, their BSDF values and densities in lanes, then the light samples'
-// weights (shadow rays left pending) and continue_path. Each path gets path_bounce's bits. Cost per path:
-// path_bounce's, with the BSDF's constructor, wo terms, direction sampling, two evaluations and densities in lanes
-// instead of scalar code.
+// terms in lanes, the light samples (plain triangle lights' in lanes) and the BSDF directions' uniforms (each path's
+// random numbers in path_bounce's order), the BSDF directions in lanes, their BSDF values and densities in lanes, then
+// the light samples' weights and shadow rays (left pending; in lanes where the sample was) and continue_path. Each
+// path gets path_bounce's bits. Cost per path: path_bounce's, with the BSDF's constructor, wo terms, direction
+// sampling, two evaluations and densities and the triangle light's sample, weight and shadow ray in lanes instead of
+// scalar code.
 template <LightSampler S, class Stream>
 void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParams& params, const uint32_t* group,
                   int count, const std::vector<Hit>& hits, const SurfacePoint* surfaces,
@@ -54,6 +59,7 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     b.vertices.material.set(j, sp.shading_normal, sp.base_color, sp.metallic, sp.roughness, sp.specular,
                             sp.specular_f0);
     b.vertices.wox[j] = wo.x, b.vertices.woy[j] = wo.y, b.vertices.woz[j] = wo.z;
+    b.nee.set_vertex(j, sp.position, sp.geometric_normal);
   }
   build_bsdf_lanes(b.vertices, count, b.bsdf);
   // Draw: each scattering vertex's light sample, then its BSDF direction from the lanes' terms. In three passes
@@ -67,7 +73,7 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     prefetch_lights(sampler, b.ctx[j], &b.u_choice[j], 1);
   }
   for (int j = 0; j < count; ++j) {
-    b.light.active[j] = b.next.active[j] = 0.0f;
+    b.light.active[j] = b.next.active[j] = b.nee.active[j] = 0.0f;
     if (!b.sp[j]) continue;
     Stream& rng = rngs[group[j]];
     b.choice[j] = draw_light_choice(sampler, b.ctx[j], b.u_choice[j], rng);
@@ -76,19 +82,35 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     b.uniforms.u[0][j] = u.x, b.uniforms.u[1][j] = u.y, b.uniforms.lobe[j] = rng.next_float();
     b.next.active[j] = 1.0f;
   }
+  const std::vector<TriangleLight>& triangles = view.lights.triangles();
   for (int j = 0; j < count; ++j) {
-    if (!b.sp[j] || !place_light_sample(view, *b.sp[j], b.choice[j], b.pmf[j], b.light_sample[j])) continue;
+    if (!b.sp[j]) continue;
+    const SampledLight& chosen = b.choice[j].chosen;
+    if (chosen.pmf > 0.0f && chosen.index < triangles.size() && !triangles[chosen.index].textured) {
+      b.nee.set_light(j, triangles[chosen.index], b.choice[j].u, chosen.pmf);  // placed in lanes below
+      continue;
+    }
+    if (!place_light_sample(view, *b.sp[j], b.choice[j], b.pmf[j], b.light_sample[j])) continue;
     const vec3& wi = b.light_sample[j].wi;
     b.light.x[j] = wi.x, b.light.y[j] = wi.y, b.light.z[j] = wi.z, b.light.active[j] = 1.0f;
   }
+  sample_triangle_lights_lanes(b.nee, count, b.light);
   sample_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, b.uniforms, count, b.next);
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, true, b.light);
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, false, b.next);
-  // Finish: the light samples' weights and shadow rays, then the paths that go on.
+  // Finish: the light samples' weights and shadow rays (those of plain triangle lights in lanes), then the paths
+  // that go on.
+  weigh_light_samples_lanes(b.light, view.tracer.offset_epsilon(), count, b.nee);
   for (int j = 0; j < count; ++j) {
     if (!b.sp[j]) continue;
     PathState& st = paths[group[j]];
-    if (b.light.active[j] > 0.0f) {
+    if (b.nee.active[j] > 0.0f) {
+      st.light_pending = b.nee.pending[j] > 0.0f;
+      if (st.light_pending) {
+        st.shadow = b.nee.shadow.ray(j);
+        st.light = st.beta * vec3(b.nee.contribution[0][j], b.nee.contribution[1][j], b.nee.contribution[2][j]);
+      }
+    } else if (b.light.active[j] > 0.0f) {
       vec3 contribution;
       const vec3 f(b.light.f[0][j], b.light.f[1][j], b.light.f[2][j]);
       st.light_pending = weigh_light_sample(view.tracer, *b.sp[j], b.light_sample[j], b.pmf[j], f, b.light.pdf[j],

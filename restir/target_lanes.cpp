@@ -78,30 +78,13 @@ void EvaluateExactContributionLanes(const ReceiverLanes& receivers, const Candid
   }
 }
 
-// Tracer::offset_point: p moved along n (flipped to the side `towards` points to) by epsilon + 4e-6 max_component(|p|).
-V3 offset_point(D d, const V3& p, const V3& n, const V3& towards, V epsilon) {
-  const V magnitude = max_of(hn::Abs(p.x), max_of(hn::Abs(p.y), hn::Abs(p.z)));
-  const V eps = hn::Add(epsilon, hn::Mul(hn::Set(d, 4e-6f), magnitude));
-  const M front = hn::Ge(dot(n, towards), hn::Zero(d));
-  auto side = [&](V c) { return hn::Mul(hn::IfThenElse(front, c, hn::Neg(c)), eps); };
-  return {hn::Add(p.x, side(n.x)), hn::Add(p.y, side(n.y)), hn::Add(p.z, side(n.z))};
-}
-
 void ShadowRayLanes(const ReceiverLanes& from, const CandidateLanes& to, float epsilon, int slots, RayLanes& out) {
   const D d;
   const V eps = hn::Set(d, epsilon);
   for (int s = 0; s < slots; s += int(hn::Lanes(d))) {
-    // Tracer::spawn_ray_to: both ends offset, then the direction and a tmax short of the far end.
     const V3 p = load3(d, from.px, from.py, from.pz, s), ng = load3(d, from.gx, from.gy, from.gz, s);
     const V3 q = load3(d, to.x, to.y, to.z, s), nq = load3(d, to.nx, to.ny, to.nz, s);
-    const V3 o = offset_point(d, p, ng, {hn::Sub(q.x, p.x), hn::Sub(q.y, p.y), hn::Sub(q.z, p.z)}, eps);
-    const V3 e = offset_point(d, q, nq, {hn::Sub(o.x, q.x), hn::Sub(o.y, q.y), hn::Sub(o.z, q.z)}, eps);
-    const V3 delta{hn::Sub(e.x, o.x), hn::Sub(e.y, o.y), hn::Sub(e.z, o.z)};
-    const V len = hn::Sqrt(dot(delta, delta));
-    const V den = max_of(len, hn::Set(d, 1e-30f));
-    store3(d, o, out.ox, out.oy, out.oz, s);
-    store3(d, {hn::Div(delta.x, den), hn::Div(delta.y, den), hn::Div(delta.z, den)}, out.dx, out.dy, out.dz, s);
-    hn::Store(hn::Mul(len, hn::Set(d, 1.0f - 1e-4f)), d, out.tmax + s);
+    spawn_ray_to(d, p, ng, q, nq, eps, out, s);
   }
 }
 

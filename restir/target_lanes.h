@@ -12,6 +12,7 @@
 
 #include "engine/bsdf_lanes.h"
 #include "engine/lights.h"
+#include "engine/ray_lanes.h"
 #include "engine/tracer.h"
 #include "engine/tiles.h"
 
@@ -71,15 +72,6 @@ void evaluate_candidate_lanes(const ReceiverLanes& receivers, CandidateLanes* ca
 // sample: ~80 flops and 4 table gathers, in lanes.
 void evaluate_exact_contribution_lanes(const ReceiverLanes& receivers, const CandidateLanes& samples, int slots,
                                        ContributionLanes& out);
-// Shadow rays of a batch, one per slot: origin, direction and tmax.
-struct RayLanes {
-  alignas(64) float ox[kLaneSlots], oy[kLaneSlots], oz[kLaneSlots];
-  alignas(64) float dx[kLaneSlots], dy[kLaneSlots], dz[kLaneSlots];
-  alignas(64) float tmax[kLaneSlots];
-  Ray ray(int slot) const {
-    return {vec3(ox[slot], oy[slot], oz[slot]), vec3(dx[slot], dy[slot], dz[slot]), 0.0f, tmax[slot]};
-  }
-};
 // Tracer::spawn_ray_to's rays (its bits) from the receivers' points (position, geometric normal) to the points of
 // `to` (position, normal), slots [0, slots); `epsilon` is the Tracer's offset_epsilon(). Slots whose point is
 // inactive get rays nobody may trace. Cost per ray: ~50 flops, a square root and 3 divisions, in lanes.
