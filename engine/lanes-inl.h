@@ -1,5 +1,5 @@
 // Highway helpers shared by the SIMD kernels over pixels (engine/gbuffer_lanes.cpp, engine/bsdf_lanes-inl.h and
-// its users, restir/resample_lanes.cpp, engine/nee_lanes.cpp): vectors of 3-vectors and the scalar code's dot and
+// its users, restir/resample_lanes.cpp, engine/path_lanes.cpp): vectors of 3-vectors and the scalar code's dot and
 // cross products, normalise, octahedral decoding, sin_cos, GGX albedo lookup and Tracer::spawn_ray_to, each repeating
 // the scalar operations in the same order so that the kernels keep the scalar code's bits. Included once per
 // instruction set by each kernel's foreach_target.h pass, hence the toggling include guard (Highway's "-inl.h"

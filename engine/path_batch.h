@@ -10,7 +10,7 @@
 
 #include "engine/bsdf_lanes.h"
 #include "engine/gbuffer_lanes.h"
-#include "engine/nee_lanes.h"
+#include "engine/path_lanes.h"
 #include "engine/path_tracer.h"
 
 namespace candela {
@@ -25,8 +25,10 @@ struct PathVertexBatch {
   vec2 u_choice[kLaneSlots];                // the light choice's uniforms
   LightChoice choice[kLaneSlots];           // the chosen light and the point's uniforms
   float pmf[kLaneSlots] = {};               // the light sample's selection probability
-  LightSample light_sample[kLaneSlots];     // the samples of the lights nee_lanes leaves to the scalar code
+  LightSample light_sample[kLaneSlots];     // the samples of the lights path_lanes leaves to the scalar code
+  VertexLanes at;                           // the vertices' positions and geometric normals
   NeeLanes nee;                             // the samples of plain triangle lights
+  ContinueLanes go_on;                      // the continuation's geometry
   BsdfVertexLanes vertices;
   BsdfLanes bsdf;
   BsdfUniformLanes uniforms;   // the BSDF samples' uniforms
@@ -59,7 +61,7 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     b.vertices.material.set(j, sp.shading_normal, sp.base_color, sp.metallic, sp.roughness, sp.specular,
                             sp.specular_f0);
     b.vertices.wox[j] = wo.x, b.vertices.woy[j] = wo.y, b.vertices.woz[j] = wo.z;
-    b.nee.set_vertex(j, sp.position, sp.geometric_normal);
+    b.at.set(j, sp.position, sp.geometric_normal);
   }
   build_bsdf_lanes(b.vertices, count, b.bsdf);
   // Draw: each scattering vertex's light sample, then its BSDF direction from the lanes' terms. In three passes
@@ -94,13 +96,16 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     const vec3& wi = b.light_sample[j].wi;
     b.light.x[j] = wi.x, b.light.y[j] = wi.y, b.light.z[j] = wi.z, b.light.active[j] = 1.0f;
   }
-  sample_triangle_lights_lanes(b.nee, count, b.light);
+  sample_triangle_lights_lanes(b.at, b.nee, count, b.light);
   sample_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, b.uniforms, count, b.next);
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, true, b.light);
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, false, b.next);
   // Finish: the light samples' weights and shadow rays (those of plain triangle lights in lanes), then the paths
   // that go on.
-  weigh_light_samples_lanes(b.light, view.tracer.offset_epsilon(), count, b.nee);
+  const float epsilon = view.tracer.offset_epsilon();
+  weigh_light_samples_lanes(b.at, b.light, epsilon, count, b.nee);
+  const BsdfMaterialLanes& material = b.vertices.material;
+  continue_paths_lanes(b.at, material.nx, material.ny, material.nz, b.next, epsilon, count, b.go_on);
   for (int j = 0; j < count; ++j) {
     if (!b.sp[j]) continue;
     PathState& st = paths[group[j]];
@@ -117,11 +122,14 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
                                             st.shadow, contribution);
       if (st.light_pending) st.light = st.beta * contribution;
     }
-    // Bsdf::sample accepts a direction of positive density only.
-    if (b.next.active[j] > 0.0f && b.next.pdf[j] > 0.0f) {
-      const BsdfSample bs{vec3(b.next.x[j], b.next.y[j], b.next.z[j]),
-                          vec3(b.next.f[0][j], b.next.f[1][j], b.next.f[2][j]), b.next.pdf[j]};
-      continue_path(view.tracer, params, st, *b.sp[j], bs, rngs[group[j]]);
+    // continue_path, its geometry from the lanes.
+    if (b.go_on.go[j] > 0.0f) {
+      const vec3 wi(b.next.x[j], b.next.y[j], b.next.z[j]);
+      st.beta *= vec3(b.go_on.factor[0][j], b.go_on.factor[1][j], b.go_on.factor[2][j]);
+      st.prev_bsdf_pdf = b.next.pdf[j];
+      st.prev_ctx = b.ctx[j];
+      st.ray = Ray{vec3(b.go_on.ox[j], b.go_on.oy[j], b.go_on.oz[j]), wi, 0.0f, kInfinity};
+      survive_bounce(params, st, rngs[group[j]]);
     }
   }
 }

@@ -161,17 +161,10 @@ const SurfacePoint* arrive_at_vertex(const SceneView& view, const S& sampler, co
   return st.depth < params.max_depth ? surface : nullptr;
 }
 
-// A bounce's last step: the path goes on along the BSDF sample bs drawn at vertex sp (one that sampling
-// accepted: pdf > 0), with Russian roulette (one random number, from rr_start_depth on), or ends.
+// The end of a bounce whose next ray is set (continue_path): Russian roulette (one random number, from
+// rr_start_depth on), then the path goes on unless its throughput overflowed.
 template <class Stream>
-void continue_path(const Tracer& tracer, const PathTracerParams& params, PathState& st, const SurfacePoint& sp,
-                   const BsdfSample& bs, Stream& rng) {
-  if (glm::dot(bs.wi, sp.geometric_normal) <= 0.0f) return;
-  st.beta *= bs.f * (std::abs(glm::dot(bs.wi, sp.shading_normal)) / bs.pdf);
-  st.prev_bsdf_pdf = bs.pdf;
-  st.prev_ctx = ShadingContext{sp.position, sp.shading_normal};
-  st.ray = tracer.spawn_ray(sp.position, sp.geometric_normal, bs.wi);
-
+void survive_bounce(const PathTracerParams& params, PathState& st, Stream& rng) {
   if (st.depth + 1 >= params.rr_start_depth) {
     float survive = std::min(0.95f, max_component(st.beta));
     if (rng.next_float() >= survive) return;
@@ -184,6 +177,20 @@ void continue_path(const Tracer& tracer, const PathTracerParams& params, PathSta
   }
   ++st.depth;
   st.alive = true;
+}
+
+// A bounce's last step: the path goes on along the BSDF sample bs drawn at vertex sp (one that sampling
+// accepted: pdf > 0) if it leaves above the geometric surface, with Russian roulette, or ends.
+// engine/path_lanes.h continue_paths_lanes computes the geometry for many vertices in lanes.
+template <class Stream>
+void continue_path(const Tracer& tracer, const PathTracerParams& params, PathState& st, const SurfacePoint& sp,
+                   const BsdfSample& bs, Stream& rng) {
+  if (glm::dot(bs.wi, sp.geometric_normal) <= 0.0f) return;
+  st.beta *= bs.f * (std::abs(glm::dot(bs.wi, sp.shading_normal)) / bs.pdf);
+  st.prev_bsdf_pdf = bs.pdf;
+  st.prev_ctx = ShadingContext{sp.position, sp.shading_normal};
+  st.ray = tracer.spawn_ray(sp.position, sp.geometric_normal, bs.wi);
+  survive_bounce(params, st, rng);
 }
 
 // One bounce of a path whose ray has been traced to `hit`: arrive_at_vertex, then the vertex's next-event

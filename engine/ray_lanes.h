@@ -1,6 +1,6 @@
 #pragma once
 // Rays of a batch in structure-of-arrays planes, one per slot: what the SIMD kernels that build Tracer::spawn_ray_to's
-// rays write (restir/target_lanes.h shadow_ray_lanes, engine/nee_lanes.h weigh_light_samples_lanes) for the
+// rays write (restir/target_lanes.h shadow_ray_lanes, engine/path_lanes.h weigh_light_samples_lanes) for the
 // caller to queue.
 #include "engine/bsdf_lanes.h"
 #include "engine/tracer.h"

@@ -1,14 +1,15 @@
-// The next-event kernels (nee_lanes.h), compiled once per instruction set by Highway's foreach_target.h and
+// The path vertices' kernels (path_lanes.h), compiled once per instruction set by Highway's foreach_target.h and
 // dispatched at run time. Each step names the scalar function whose arithmetic it repeats, in the same order
 // (engine/lights.cpp LightList::sample and triangle_point, engine/lights.h light_sample_towards, engine/path_tracer.h
-// place_light_sample, weigh_light_sample and power_heuristic, engine/tracer.h Tracer::spawn_ray_to). Where the scalar
+// place_light_sample, weigh_light_sample, power_heuristic and continue_path, engine/tracer.h Tracer::spawn_ray_to and
+// spawn_ray). Where the scalar
 // code rejects on `x <= 0` the kernels test Not(Le) (a NaN passes such a test, as it does there).
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "engine/nee_lanes.cpp"
+#define HWY_TARGET_INCLUDE "engine/path_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 #include "engine/lanes-inl.h"
-#include "engine/nee_lanes.h"
+#include "engine/path_lanes.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace candela {
@@ -17,7 +18,7 @@ namespace HWY_NAMESPACE {
 // max_component: std::max(x, std::max(y, z)).
 V max3(const V* v) { return max_of(v[0], max_of(v[1], v[2])); }
 
-void SampleTriangleLightsLanes(NeeLanes& nee, int slots, DirectionLanes& light) {
+void SampleTriangleLightsLanes(const VertexLanes& v, NeeLanes& nee, int slots, DirectionLanes& light) {
   const D d;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   for (int s = 0; s < slots; s += int(hn::Lanes(d))) {
@@ -30,7 +31,7 @@ void SampleTriangleLightsLanes(NeeLanes& nee, int slots, DirectionLanes& light) 
       q[c] = hn::Add(hn::Add(hn::Load(d, nee.corner[c] + s), hn::Mul(hn::Load(d, nee.edge1[c] + s), bx)),
                      hn::Mul(hn::Load(d, nee.edge2[c] + s), by));
     // light_sample_towards: the direction and distance from the vertex, the cosine at the light and its sidedness.
-    const V3 p = load3(d, nee.px, nee.py, nee.pz, s);
+    const V3 p = load3(d, v.px, v.py, v.pz, s);
     const V3 delta{hn::Sub(q[0], p.x), hn::Sub(q[1], p.y), hn::Sub(q[2], p.z)};
     const V dist2 = dot(delta, delta), dist = hn::Sqrt(dist2);
     const V3 wi{hn::Div(delta.x, dist), hn::Div(delta.y, dist), hn::Div(delta.z, dist)};
@@ -45,7 +46,7 @@ void SampleTriangleLightsLanes(NeeLanes& nee, int slots, DirectionLanes& light) 
     const V pdf = hn::Div(hn::Mul(dist, dist), hn::Mul(abs_cos, area));
     // place_light_sample: a positive density, and the light above the vertex's geometric surface.
     M valid = hn::And(active, hn::And(has, hn::Not(hn::Le(pdf, zero))));
-    valid = hn::And(valid, hn::Gt(dot(wi, load3(d, nee.gx, nee.gy, nee.gz, s)), zero));
+    valid = hn::And(valid, hn::Gt(dot(wi, load3(d, v.gx, v.gy, v.gz, s)), zero));
     store3(d, {q[0], q[1], q[2]}, nee.qx, nee.qy, nee.qz, s);
     for (int c = 0; c < 3; ++c) hn::Store(emitted[c], d, nee.radiance[c] + s);
     hn::Store(pdf, d, nee.pdf + s);
@@ -57,13 +58,15 @@ void SampleTriangleLightsLanes(NeeLanes& nee, int slots, DirectionLanes& light) 
   }
 }
 
-void WeighLightSamplesLanes(const DirectionLanes& light, float epsilon, int slots, NeeLanes& nee) {
+void WeighLightSamplesLanes(const VertexLanes& v, const DirectionLanes& light, float epsilon, int slots,
+                            NeeLanes& nee) {
   const D d;
   const V zero = hn::Zero(d), eps = hn::Set(d, epsilon);
   for (int s = 0; s < slots; s += int(hn::Lanes(d))) {
     const V f[3] = {hn::Load(d, light.f[0] + s), hn::Load(d, light.f[1] + s), hn::Load(d, light.f[2] + s)};
-    const M pending = hn::And(hn::And(hn::Gt(hn::Load(d, nee.active + s), zero), hn::Gt(hn::Load(d, light.active + s), zero)),
-                              hn::Not(hn::Le(max3(f), zero)));
+    const M pending =
+        hn::And(hn::And(hn::Gt(hn::Load(d, nee.active + s), zero), hn::Gt(hn::Load(d, light.active + s), zero)),
+                hn::Not(hn::Le(max3(f), zero)));
     hn::Store(hn::IfThenElseZero(pending, hn::Set(d, 1.0f)), d, nee.pending + s);
     // weigh_light_sample: the power heuristic between the light's density and the BSDF's, then the contribution.
     const V p_light = hn::Mul(hn::Load(d, nee.pmf + s), hn::Load(d, nee.pdf + s));
@@ -74,8 +77,27 @@ void WeighLightSamplesLanes(const DirectionLanes& light, float epsilon, int slot
     for (int c = 0; c < 3; ++c)
       hn::Store(hn::Mul(hn::Mul(f[c], hn::Load(d, nee.radiance[c] + s)), scale), d, nee.contribution[c] + s);
     // shadow_ray: Tracer::spawn_ray_to from the vertex to the point on the light.
-    spawn_ray_to(d, load3(d, nee.px, nee.py, nee.pz, s), load3(d, nee.gx, nee.gy, nee.gz, s),
-                 load3(d, nee.qx, nee.qy, nee.qz, s), load3(d, nee.nx, nee.ny, nee.nz, s), eps, nee.shadow, s);
+    spawn_ray_to(d, load3(d, v.px, v.py, v.pz, s), load3(d, v.gx, v.gy, v.gz, s), load3(d, nee.qx, nee.qy, nee.qz, s),
+                 load3(d, nee.nx, nee.ny, nee.nz, s), eps, nee.shadow, s);
+  }
+}
+
+void ContinuePathsLanes(const VertexLanes& v, const float* nx, const float* ny, const float* nz,
+                        const DirectionLanes& next, float epsilon, int slots, ContinueLanes& out) {
+  const D d;
+  const V zero = hn::Zero(d), eps = hn::Set(d, epsilon);
+  for (int s = 0; s < slots; s += int(hn::Lanes(d))) {
+    // continue_path: a sampled direction (positive density) above the geometric surface goes on.
+    const V3 wi = load3(d, next.x, next.y, next.z, s), ng = load3(d, v.gx, v.gy, v.gz, s);
+    const V pdf = hn::Load(d, next.pdf + s);
+    const M drawn = hn::And(hn::Gt(hn::Load(d, next.active + s), zero), hn::Gt(pdf, zero));
+    const M go = hn::And(drawn, hn::Not(hn::Le(dot(wi, ng), zero)));
+    hn::Store(hn::IfThenElseZero(go, hn::Set(d, 1.0f)), d, out.go + s);
+    // The throughput's factor, f (|cos| / pdf) at the shading normal.
+    const V scale = hn::Div(hn::Abs(dot(wi, load3(d, nx, ny, nz, s))), pdf);
+    for (int c = 0; c < 3; ++c) hn::Store(hn::Mul(hn::Load(d, next.f[c] + s), scale), d, out.factor[c] + s);
+    // Tracer::spawn_ray: the origin offset to the side the direction leaves on.
+    store3(d, offset_point(d, load3(d, v.px, v.py, v.pz, s), ng, wi, eps), out.ox, out.oy, out.oz, s);
   }
 }
 
@@ -88,15 +110,22 @@ namespace candela {
 
 HWY_EXPORT(SampleTriangleLightsLanes);
 HWY_EXPORT(WeighLightSamplesLanes);
+HWY_EXPORT(ContinuePathsLanes);
 
 static_assert(kLaneSlots % 16 == 0, "a batch is a whole number of the widest vectors");
 
-void sample_triangle_lights_lanes(NeeLanes& nee, int slots, DirectionLanes& light) {
-  HWY_DYNAMIC_DISPATCH(SampleTriangleLightsLanes)(nee, slots, light);
+void sample_triangle_lights_lanes(const VertexLanes& v, NeeLanes& nee, int slots, DirectionLanes& light) {
+  HWY_DYNAMIC_DISPATCH(SampleTriangleLightsLanes)(v, nee, slots, light);
 }
 
-void weigh_light_samples_lanes(const DirectionLanes& light, float epsilon, int slots, NeeLanes& nee) {
-  HWY_DYNAMIC_DISPATCH(WeighLightSamplesLanes)(light, epsilon, slots, nee);
+void weigh_light_samples_lanes(const VertexLanes& v, const DirectionLanes& light, float epsilon, int slots,
+                               NeeLanes& nee) {
+  HWY_DYNAMIC_DISPATCH(WeighLightSamplesLanes)(v, light, epsilon, slots, nee);
+}
+
+void continue_paths_lanes(const VertexLanes& v, const float* nx, const float* ny, const float* nz,
+                          const DirectionLanes& next, float epsilon, int slots, ContinueLanes& out) {
+  HWY_DYNAMIC_DISPATCH(ContinuePathsLanes)(v, nx, ny, nz, next, epsilon, slots, out);
 }
 
 }  // namespace candela
