@@ -26,9 +26,10 @@ namespace candela {
 // ordered along the Morton curve (ZSobol), which also stratifies neighbouring pixels against each other.
 enum class SampleSequence { Independent, Sobol, ZSobol };
 
-// Bits of x in reverse order: the bytes swapped (one instruction), then the bits within each byte.
+// Bits of x in reverse order.
 constexpr uint32_t reverse_bits(uint32_t x) {
-  x = __builtin_bswap32(x);
+  x = (x << 16) | (x >> 16);
+  x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
   x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
   x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
   x = ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);
