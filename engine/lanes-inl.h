@@ -1,7 +1,7 @@
 // Highway helpers shared by the SIMD kernels over pixels (engine/gbuffer_lanes.cpp, engine/bsdf_lanes-inl.h and
 // its users, restir/resample_lanes.cpp, engine/path_lanes.cpp): vectors of 3-vectors and the scalar code's dot and
-// cross products, normalise, octahedral decoding, sin_cos, GGX albedo lookup and Tracer::spawn_ray_to, each repeating
-// the scalar operations in the same order so that the kernels keep the scalar code's bits. Included once per
+// cross products, normalise, max_component (max_of3), octahedral decoding, sin_cos and GGX albedo lookup, each
+// repeating the scalar operations in the same order so that the kernels keep the scalar code's bits. Included once per
 // instruction set by each kernel's foreach_target.h pass, hence the toggling include guard (Highway's "-inl.h"
 // convention).
 #if defined(CANDELA_ENGINE_LANES_INL_H_) == defined(HWY_TARGET_TOGGLE)
@@ -13,7 +13,6 @@
 
 #include "engine/ggx_albedo.h"
 #include "engine/math.h"
-#include "engine/ray_lanes.h"
 #include "hwy/highway.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -57,6 +56,8 @@ inline V3 normalize(D d, const V3& v) {
 // greater, or smaller: putting c first keeps std's result also for -0 and NaN).
 inline V max_of(V x, V c) { return hn::Max(c, x); }
 inline V min_of(V x, V c) { return hn::Min(c, x); }
+// max_component: std::max(x, std::max(y, z)).
+inline V max_of3(V x, V y, V z) { return max_of(x, max_of(y, z)); }
 
 // oct_decode (engine/octahedral.h).
 inline V3 oct_decode(D d, VU e) {
@@ -127,28 +128,6 @@ inline void albedo_at(D d, V cos_theta, VI row, V weight, V& a, V& b) {
   const V a1 = hn::Add(a10, hn::Mul(s, hn::Sub(a11, a10))), b1 = hn::Add(b10, hn::Mul(s, hn::Sub(b11, b10)));
   a = hn::Add(a0, hn::Mul(weight, hn::Sub(a1, a0)));
   b = hn::Add(b0, hn::Mul(weight, hn::Sub(b1, b0)));
-}
-
-// Tracer::offset_point: p moved along n (flipped to the side `towards` points to) by epsilon + 4e-6 max_component(|p|).
-inline V3 offset_point(D d, const V3& p, const V3& n, const V3& towards, V epsilon) {
-  const V magnitude = max_of(hn::Abs(p.x), max_of(hn::Abs(p.y), hn::Abs(p.z)));
-  const V eps = hn::Add(epsilon, hn::Mul(hn::Set(d, 4e-6f), magnitude));
-  const M front = hn::Ge(dot(n, towards), hn::Zero(d));
-  auto side = [&](V c) { return hn::Mul(hn::IfThenElse(front, c, hn::Neg(c)), eps); };
-  return {hn::Add(p.x, side(n.x)), hn::Add(p.y, side(n.y)), hn::Add(p.z, side(n.z))};
-}
-
-// Tracer::spawn_ray_to from p (geometric normal ng) to q (normal nq), into slots [s, s + lanes) of `out`: both ends
-// offset (epsilon: Tracer::offset_epsilon()), then the direction and a tmax short of the far end.
-inline void spawn_ray_to(D d, const V3& p, const V3& ng, const V3& q, const V3& nq, V epsilon, RayLanes& out, int s) {
-  const V3 o = offset_point(d, p, ng, {hn::Sub(q.x, p.x), hn::Sub(q.y, p.y), hn::Sub(q.z, p.z)}, epsilon);
-  const V3 e = offset_point(d, q, nq, {hn::Sub(o.x, q.x), hn::Sub(o.y, q.y), hn::Sub(o.z, q.z)}, epsilon);
-  const V3 delta{hn::Sub(e.x, o.x), hn::Sub(e.y, o.y), hn::Sub(e.z, o.z)};
-  const V len = hn::Sqrt(dot(delta, delta));
-  const V den = max_of(len, hn::Set(d, 1e-30f));
-  store3(d, o, out.ox, out.oy, out.oz, s);
-  store3(d, {hn::Div(delta.x, den), hn::Div(delta.y, den), hn::Div(delta.z, den)}, out.dx, out.dy, out.dz, s);
-  hn::Store(hn::Mul(len, hn::Set(d, 1.0f - 1e-4f)), d, out.tmax + s);
 }
 
 }  // namespace HWY_NAMESPACE

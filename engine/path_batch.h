@@ -24,7 +24,7 @@ struct PathVertexBatch {
   ShadingContext ctx[kLaneSlots];           // what the light choice is for
   vec2 u_choice[kLaneSlots];                // the light choice's uniforms
   LightChoice choice[kLaneSlots];           // the chosen light and the point's uniforms
-  float pmf[kLaneSlots] = {};               // the light sample's selection probability
+  float pmf[kLaneSlots] = {};               // the selection probability of a light sample the scalar code places
   LightSample light_sample[kLaneSlots];     // the samples of the lights path_lanes leaves to the scalar code
   VertexLanes at;                           // the vertices' positions and geometric normals
   NeeLanes nee;                             // the samples of plain triangle lights
@@ -39,10 +39,11 @@ struct PathVertexBatch {
 // group: arrive_at_vertex (the surface surfaces[j] where `instances` says the lanes computed it), the BSDFs'
 // terms in lanes, the light samples (plain triangle lights' in lanes) and the BSDF directions' uniforms (each path's
 // random numbers in path_bounce's order), the BSDF directions in lanes, their BSDF values and densities in lanes, then
-// the light samples' weights and shadow rays (left pending; in lanes where the sample was) and continue_path. Each
-// path gets path_bounce's bits. Cost per path: path_bounce's, with the BSDF's constructor, wo terms, direction
-// sampling, two evaluations and densities and the triangle light's sample, weight and shadow ray in lanes instead of
-// scalar code.
+// the light samples' weights and shadow rays (left pending; in lanes where the sample was), and continue_path's
+// geometry in lanes (continue_paths_lanes) with its Russian roulette per path (survive_bounce). Each path gets
+// path_bounce's bits. Cost per path: path_bounce's, with the BSDF's constructor, wo terms, direction sampling, two
+// evaluations and densities, the triangle light's sample, weight and shadow ray and the next ray's geometry in lanes
+// instead of scalar code.
 template <LightSampler S, class Stream>
 void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParams& params, const uint32_t* group,
                   int count, const std::vector<Hit>& hits, const SurfacePoint* surfaces,
@@ -67,7 +68,8 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
   // Draw: each scattering vertex's light sample, then its BSDF direction from the lanes' terms. In three passes
   // over the group (each path's random numbers still in path_bounce's order), so that the cache misses of the
   // sampler's tables and of the chosen lights' records overlap across paths: the choices' uniforms (and the
-  // sampler's prefetch), the choices with the other uniforms (and the lights' records prefetched), the points.
+  // sampler's prefetch), the choices with the other uniforms (and the lights' records prefetched), the points (a plain
+  // triangle light's record copied into the lanes, the other lights' samples placed by the scalar code).
   for (int j = 0; j < count; ++j) {
     if (!b.sp[j]) continue;
     b.ctx[j] = {b.sp[j]->position, b.sp[j]->shading_normal};
@@ -96,6 +98,7 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
     const vec3& wi = b.light_sample[j].wi;
     b.light.x[j] = wi.x, b.light.y[j] = wi.y, b.light.z[j] = wi.z, b.light.active[j] = 1.0f;
   }
+  // The plain triangle lights' samples in lanes (LightList::sample and place_light_sample's tests).
   sample_triangle_lights_lanes(b.at, b.nee, count, b.light);
   sample_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, b.uniforms, count, b.next);
   evaluate_bsdf_lanes(b.bsdf, b.vertices.wox, b.vertices.woy, b.vertices.woz, count, true, b.light);
@@ -138,8 +141,8 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
 // first_hits, if not null, receives per path the surface its start's ray hits. With `instances` (the scene's,
 // GBufferInstances), each bounce's hits on plain materials get their surfaces in SIMD lanes
 // (surface_points_lanes), the others surface_at. Returns the rays traced.
-// Cost: trace_path's per path, less the BSDF work bounce_paths does in lanes; rays in packets of 16 in slot
-// order (slots of neighbouring pixels keep the first bounces' packets coherent).
+// Cost: trace_path's per path, less the BSDF, next-event and continuation work bounce_paths does in lanes; rays in
+// packets of 16 in slot order (slots of neighbouring pixels keep the first bounces' packets coherent).
 template <LightSampler S, class Stream>
 uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerParams& params,
                      std::vector<PathState>& paths, std::vector<Stream>& rngs,
@@ -196,7 +199,7 @@ uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerPa
 // Stage: adds params.spp path samples per pixel into `sum` (running sum of radiance; divide by the total
 // sample count to display); a non-finite sample is dropped and counted in `non_finite`. Reads the scene
 // view; traces about spp * (1 + 2 * depth) rays per pixel, a tile's paths of one sample number together
-// (trace_paths: rays in packets, surfaces and BSDFs in lanes; trace_path's bits for every path).
+// (trace_paths: rays in packets, surfaces, BSDFs and light samples in lanes; trace_path's bits for every path).
 // Randomness is keyed on (seed, pixel, frame, sample) (Sobol: (seed, pixel, epoch) and the sample as the
 // sequence index; ZSobol: (seed, epoch) and the pixel's Morton index with the sample), so the result does
 // not depend on thread count.

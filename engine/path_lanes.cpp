@@ -2,21 +2,19 @@
 // dispatched at run time. Each step names the scalar function whose arithmetic it repeats, in the same order
 // (engine/lights.cpp LightList::sample and triangle_point, engine/lights.h light_sample_towards, engine/path_tracer.h
 // place_light_sample, weigh_light_sample, power_heuristic and continue_path, engine/tracer.h Tracer::spawn_ray_to and
-// spawn_ray). Where the scalar
-// code rejects on `x <= 0` the kernels test Not(Le) (a NaN passes such a test, as it does there).
+// spawn_ray, through engine/ray_lanes-inl.h). Where the scalar code rejects on `x <= 0` the kernels test Not(Le) (a
+// NaN passes such a test, as it does there).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "engine/path_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 #include "engine/lanes-inl.h"
 #include "engine/path_lanes.h"
+#include "engine/ray_lanes-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace candela {
 namespace HWY_NAMESPACE {
-
-// max_component: std::max(x, std::max(y, z)).
-V max3(const V* v) { return max_of(v[0], max_of(v[1], v[2])); }
 
 void SampleTriangleLightsLanes(const VertexLanes& v, NeeLanes& nee, int slots, DirectionLanes& light) {
   const D d;
@@ -42,7 +40,7 @@ void SampleTriangleLightsLanes(const VertexLanes& v, NeeLanes& nee, int slots, D
     M has = hn::And(hn::Not(hn::Le(dist2, zero)), hn::Not(hn::Le(abs_cos, hn::Set(d, 1e-7f))));
     has = hn::And(has, hn::Or(hn::Gt(hn::Load(d, nee.two_sided + s), zero), hn::Lt(cos_l, zero)));
     // LightList::sample: the density where the sample carries radiance, dist^2 / (|cos_l| area).
-    has = hn::And(has, hn::And(hn::Gt(max3(emitted), zero), hn::Gt(area, zero)));
+    has = hn::And(has, hn::And(hn::Gt(max_of3(emitted[0], emitted[1], emitted[2]), zero), hn::Gt(area, zero)));
     const V pdf = hn::Div(hn::Mul(dist, dist), hn::Mul(abs_cos, area));
     // place_light_sample: a positive density, and the light above the vertex's geometric surface.
     M valid = hn::And(active, hn::And(has, hn::Not(hn::Le(pdf, zero))));
@@ -66,7 +64,7 @@ void WeighLightSamplesLanes(const VertexLanes& v, const DirectionLanes& light, f
     const V f[3] = {hn::Load(d, light.f[0] + s), hn::Load(d, light.f[1] + s), hn::Load(d, light.f[2] + s)};
     const M pending =
         hn::And(hn::And(hn::Gt(hn::Load(d, nee.active + s), zero), hn::Gt(hn::Load(d, light.active + s), zero)),
-                hn::Not(hn::Le(max3(f), zero)));
+                hn::Not(hn::Le(max_of3(f[0], f[1], f[2]), zero)));
     hn::Store(hn::IfThenElseZero(pending, hn::Set(d, 1.0f)), d, nee.pending + s);
     // weigh_light_sample: the power heuristic between the light's density and the BSDF's, then the contribution.
     const V p_light = hn::Mul(hn::Load(d, nee.pmf + s), hn::Load(d, nee.pdf + s));

@@ -51,7 +51,7 @@ struct NeeLanes {
 // Slots [0, slots) of `nee` that are active, at the vertices `v`: LightList::sample (triangle_point,
 // light_sample_towards, the density) and place_light_sample's tests; `light` gets the direction to the point and active
 // = 1 where the sample can contribute, 0 where not (its other slots are left as they are). Cost per sample: ~40 flops,
-// a square root and 4 divisions, in lanes.
+// two square roots and 4 divisions, in lanes.
 void sample_triangle_lights_lanes(const VertexLanes& v, NeeLanes& nee, int slots, DirectionLanes& light);
 
 // Slots [0, slots) of `nee` that are active, after evaluate_bsdf_lanes (times the cosine) filled `light`'s values and

@@ -197,7 +197,7 @@ void continue_path(const Tracer& tracer, const PathTracerParams& params, PathSta
 // estimate (its shadow ray left pending) and the next ray drawn from the BSDF (continue_path), or the path's
 // end. `first_hit` and `surface` as arrive_at_vertex takes them. Reads the scene, light list and sampler;
 // draws up to 8 random numbers (4 for the light sample, 3 for the BSDF sample, 1 for roulette).
-// engine/path_batch.h runs the same steps for many paths with the BSDF work in lanes.
+// engine/path_batch.h runs the same steps for many paths with the BSDF, next-event and continuation work in lanes.
 template <LightSampler S, class Stream>
 void path_bounce(const SceneView& view, const S& sampler, const PathTracerParams& params, PathState& st, const Hit& hit,
                  Stream& rng, std::optional<SurfacePoint>* first_hit, const SurfacePoint* surface = nullptr) {

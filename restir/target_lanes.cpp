@@ -2,13 +2,14 @@
 // foreach_target.h and dispatched at run time (the BSDF arithmetic: engine/bsdf_lanes-inl.h).
 // Each step names the scalar function whose arithmetic it repeats, in the same order (restir/di.h di_contribution,
 // engine/lights.h light_sample_towards, engine/bsdf.cpp Bsdf::eval and Bsdf::pdf, engine/ggx_albedo.h
-// GgxAlbedoRow::at, engine/tracer.h Tracer::spawn_ray_to and offset_point).
+// GgxAlbedoRow::at, engine/tracer.h Tracer::spawn_ray_to and offset_point through engine/ray_lanes-inl.h).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "restir/target_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 #include "restir/target_lanes.h"
 #include "engine/bsdf_lanes-inl.h"
+#include "engine/ray_lanes-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace candela {
@@ -81,6 +82,7 @@ void EvaluateExactContributionLanes(const ReceiverLanes& receivers, const Candid
 void ShadowRayLanes(const ReceiverLanes& from, const CandidateLanes& to, float epsilon, int slots, RayLanes& out) {
   const D d;
   const V eps = hn::Set(d, epsilon);
+  // Tracer::spawn_ray_to from each receiver (position, geometric normal) to its sample's point and normal.
   for (int s = 0; s < slots; s += int(hn::Lanes(d))) {
     const V3 p = load3(d, from.px, from.py, from.pz, s), ng = load3(d, from.gx, from.gy, from.gz, s);
     const V3 q = load3(d, to.x, to.y, to.z, s), nq = load3(d, to.nx, to.ny, to.nz, s);

@@ -6,8 +6,8 @@
 
 #include "engine/builtin_scenes.h"
 #include "engine/path_batch.h"
-#include "engine/simd_targets.h"
 #include "engine/path_tracer.h"
+#include "engine/simd_targets.h"
 #include "samplers/simple_samplers.h"
 #include "tests/render_helpers.h"
 #include "tests/settings_builder.h"
@@ -192,72 +192,103 @@ TEST(PathTracer, PointLightOverLambertFloor) {
   for (const vec3& p : img.pixels) EXPECT_NEAR(p.x, expected, 1e-3 * expected);
 }
 
+// manylights with its emitters' emission modulated by a striped texture (uv from the vertices' x and z, stripes
+// 1/8 of a unit wide): lights whose emission varies over the triangle (TriangleLight::textured).
+Scene textured_manylights() {
+  Scene s = make_builtin_scene("manylights");
+  Texture stripes;
+  stripes.width = stripes.height = 8;
+  stripes.rgba.resize(8 * 8 * 4);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 4; ++c) stripes.rgba[size_t(y * 8 + x) * 4 + size_t(c)] = x % 2 ? 255 : 64;
+  s.textures.push_back(std::move(stripes));
+  for (Material& m : s.materials)
+    if (m.emissive()) m.emissive_tex.texture = int(s.textures.size()) - 1;
+  for (Mesh& mesh : s.meshes) {
+    if (!s.materials[size_t(mesh.material)].emissive()) continue;
+    mesh.uv0.clear();
+    for (const vec3& p : mesh.positions) mesh.uv0.push_back(vec2(p.x, p.z));
+  }
+  return s;
+}
+
 // trace_paths (many paths bounce by bounce, rays in packets) gives trace_path's bits: each path's
 // radiance, its first hit and the number of rays, on manylights (2,048 emitters: NEE, MIS on emission) and
 // city (sky: paths that escape; moving cars), 64 paths per pixel row so packets mix lanes of different
 // depths. Half the paths start with emission at their first hit not counted, as ReSTIR GI's do. With the
 // scene's GBufferInstances too, as ReSTIR GI runs it: the vertices' surfaces from surface_points_lanes. The batch
-// runs its kernels (the BSDFs, the triangle lights' samples) on every instruction set this CPU has; city's
-// headlights are punctual lights, whose samples stay with the scalar code.
+// runs its kernels (the BSDFs, the triangle lights' samples and weights, the continuation) on every instruction set
+// this CPU has. City's headlights are punctual lights and textured manylights' emitters vary over their triangles:
+// their light samples take the scalar code's branch.
 TEST(PathBatch, GivesTracePathBits) {
-  for (const auto& [name, lanes] :
-       {std::pair{"manylights", false}, {"manylights", true}, {"city", false}, {"city", true}}) {
-    const Scene scene = make_builtin_scene(name);
-    const Tracer tracer(scene);
-    const LightList lights(scene);
-    const PowerLightSampler sampler(lights);
-    const int w = 64, h = 32;
-    const Camera camera(scene.default_camera(), w, h);
-    const SceneView view{scene, tracer, lights, camera};
-    PathTracerParams params;
-    params.max_depth = 8;
-    std::vector<PathState> paths;
-    std::vector<Rng> rngs;
-    for (int i = 0; i < w * h; ++i) {
-      const int x = i % w, y = i / w;
-      Ray ray{camera.position(), camera.direction(x + 0.5f, y + 0.5f), 0.0f, kInfinity};
-      paths.emplace_back(PathStart{ray, 0, 0.0f, ShadingContext{}, (i % 2) == 0});
-      rngs.push_back(Rng::for_key(7, uint64_t(i), 0, 0));
-    }
-    // trace_path's answers, one path at a time.
-    std::vector<vec3> radiance(paths.size());
-    std::vector<std::optional<SurfacePoint>> first_hits(paths.size());
-    uint64_t rays = 0;
-    int lit = 0, escaped = 0;
-    for (size_t k = 0; k < paths.size(); ++k) {
-      Rng rng = rngs[k];
-      PathStart start{paths[k].ray, 0, 0.0f, ShadingContext{}, paths[k].emission_counts};
-      radiance[k] = trace_path(view, sampler, params, start, rng, rays, &first_hits[k]);
-      lit += max_component(radiance[k]) > 0.0f;
-      escaped += !first_hits[k];
-    }
-    EXPECT_GT(lit, w * h / 2) << name;  // the comparison covers lit paths, not only black ones
-    std::printf("%s%s: %d of %d paths lit, %d escaped, %llu rays\n", name, lanes ? " (lanes)" : "", lit, w * h, escaped,
-                (unsigned long long)rays);
-    // The batch's, with its kernels on every instruction set.
-    const GBufferInstances instances(scene);
-    for_each_simd_target([&](const char* target) {
-      std::vector<PathState> batch = paths;
-      std::vector<Rng> batch_rngs = rngs;
-      std::vector<std::optional<SurfacePoint>> batch_hits(paths.size());
-      const uint64_t batch_rays =
-          trace_paths(view, sampler, params, batch, batch_rngs, &batch_hits, lanes ? &instances : nullptr);
-      EXPECT_EQ(rays, batch_rays) << name << " " << target;
-      for (size_t k = 0; k < paths.size(); ++k) {
-        const std::optional<SurfacePoint>& hit = first_hits[k];
-        const vec3 batch_L = batch[k].radiance();
-        ASSERT_EQ(std::memcmp(&radiance[k], &batch_L, sizeof(vec3)), 0)
-            << name << (lanes ? " (lanes) " : " ") << target << " path " << k << ": " << radiance[k].x << " against "
-            << batch_L.x;
-        ASSERT_EQ(hit.has_value(), batch_hits[k].has_value()) << name << " path " << k;
-        if (hit) {
-          ASSERT_EQ(std::memcmp(&hit->position, &batch_hits[k]->position, sizeof(vec3)), 0) << name << " path " << k;
-          ASSERT_EQ(std::memcmp(&hit->shading_normal, &batch_hits[k]->shading_normal, sizeof(vec3)), 0)
-              << name << " path " << k;
-        }
+  std::vector<std::pair<std::string, Scene>> scenes;
+  scenes.emplace_back("manylights", make_builtin_scene("manylights"));
+  scenes.emplace_back("city", make_builtin_scene("city"));
+  scenes.emplace_back("textured manylights", textured_manylights());
+  for (const auto& [name, scene] : scenes)
+    for (const bool lanes : {false, true}) {
+      const Tracer tracer(scene);
+      const LightList lights(scene);
+      const PowerLightSampler sampler(lights);
+      const int w = 64, h = 32;
+      const Camera camera(scene.default_camera(), w, h);
+      const SceneView view{scene, tracer, lights, camera};
+      PathTracerParams params;
+      params.max_depth = 8;
+      std::vector<PathState> paths;
+      std::vector<Rng> rngs;
+      for (int i = 0; i < w * h; ++i) {
+        const int x = i % w, y = i / w;
+        Ray ray{camera.position(), camera.direction(x + 0.5f, y + 0.5f), 0.0f, kInfinity};
+        paths.emplace_back(PathStart{ray, 0, 0.0f, ShadingContext{}, (i % 2) == 0});
+        rngs.push_back(Rng::for_key(7, uint64_t(i), 0, 0));
       }
-    });
-  }
+      // trace_path's answers, one path at a time.
+      std::vector<vec3> radiance(paths.size());
+      std::vector<std::optional<SurfacePoint>> first_hits(paths.size());
+      uint64_t rays = 0;
+      int lit = 0, escaped = 0;
+      for (size_t k = 0; k < paths.size(); ++k) {
+        Rng rng = rngs[k];
+        PathStart start{paths[k].ray, 0, 0.0f, ShadingContext{}, paths[k].emission_counts};
+        radiance[k] = trace_path(view, sampler, params, start, rng, rays, &first_hits[k]);
+        lit += max_component(radiance[k]) > 0.0f;
+        escaped += !first_hits[k];
+      }
+      EXPECT_GT(lit, w * h / 2) << name;  // the comparison covers lit paths, not only black ones
+      std::printf("%s%s: %d of %d paths lit, %d escaped, %llu rays\n", name.c_str(), lanes ? " (lanes)" : "", lit,
+                  w * h, escaped, (unsigned long long)rays);
+      if (name == "textured manylights") {  // the scene is here for its textured emitters
+        size_t textured = 0;
+        for (const TriangleLight& l : lights.triangles()) textured += l.textured;
+        EXPECT_EQ(textured, lights.triangle_count());
+      }
+      // The batch's, with its kernels on every instruction set.
+      const GBufferInstances instances(scene);
+      for_each_simd_target([&](const char* target) {
+        std::vector<PathState> batch = paths;
+        std::vector<Rng> batch_rngs = rngs;
+        std::vector<std::optional<SurfacePoint>> batch_hits(paths.size());
+        const uint64_t batch_rays =
+            trace_paths(view, sampler, params, batch, batch_rngs, &batch_hits, lanes ? &instances : nullptr);
+        EXPECT_EQ(rays, batch_rays) << name << " " << target;
+        for (size_t k = 0; k < paths.size(); ++k) {
+          const std::optional<SurfacePoint>& hit = first_hits[k];
+          const vec3 batch_L = batch[k].radiance();
+          ASSERT_EQ(std::memcmp(&radiance[k], &batch_L, sizeof(vec3)), 0)
+              << name << (lanes ? " (lanes) " : " ") << target << " path " << k << ": " << radiance[k].x << " against "
+              << batch_L.x;
+          ASSERT_EQ(hit.has_value(), batch_hits[k].has_value()) << name << " " << target << " path " << k;
+          if (hit) {
+            ASSERT_EQ(std::memcmp(&hit->position, &batch_hits[k]->position, sizeof(vec3)), 0)
+                << name << " " << target << " path " << k;
+            ASSERT_EQ(std::memcmp(&hit->shading_normal, &batch_hits[k]->shading_normal, sizeof(vec3)), 0)
+                << name << " " << target << " path " << k;
+          }
+        }
+      });
+    }
 }
 
 }  // namespace
