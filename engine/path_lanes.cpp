@@ -46,7 +46,6 @@ void SampleTriangleLightsLanes(const VertexLanes& v, NeeLanes& nee, int slots, D
     M valid = hn::And(active, hn::And(has, hn::Not(hn::Le(pdf, zero))));
     valid = hn::And(valid, hn::Gt(dot(wi, load3(d, v.gx, v.gy, v.gz, s)), zero));
     store3(d, {q[0], q[1], q[2]}, nee.qx, nee.qy, nee.qz, s);
-    for (int c = 0; c < 3; ++c) hn::Store(emitted[c], d, nee.radiance[c] + s);
     hn::Store(pdf, d, nee.pdf + s);
     auto keep = [&](const V& value, float* plane) {
       hn::Store(hn::IfThenElse(active, value, hn::Load(d, plane + s)), d, plane + s);
@@ -73,7 +72,7 @@ void WeighLightSamplesLanes(const VertexLanes& v, const DirectionLanes& light, f
     const V weight = hn::IfThenElseZero(hn::Gt(sum, zero), hn::Div(a2, sum));
     const V scale = hn::Div(weight, p_light);
     for (int c = 0; c < 3; ++c)
-      hn::Store(hn::Mul(hn::Mul(f[c], hn::Load(d, nee.radiance[c] + s)), scale), d, nee.contribution[c] + s);
+      hn::Store(hn::Mul(hn::Mul(f[c], hn::Load(d, nee.emitted[c] + s)), scale), d, nee.contribution[c] + s);
     // shadow_ray: Tracer::spawn_ray_to from the vertex to the point on the light.
     spawn_ray_to(d, load3(d, v.px, v.py, v.pz, s), load3(d, v.gx, v.gy, v.gz, s), load3(d, nee.qx, nee.qy, nee.qz, s),
                  load3(d, nee.nx, nee.ny, nee.nz, s), eps, nee.shadow, s);

@@ -29,11 +29,12 @@ struct NeeLanes {
   alignas(64) float corner[3][kLaneSlots], edge1[3][kLaneSlots], edge2[3][kLaneSlots];  // TriangleLight p0, e1, e2
   alignas(64) float nx[kLaneSlots], ny[kLaneSlots], nz[kLaneSlots];                     // its normal
   alignas(64) float area[kLaneSlots], emitted[3][kLaneSlots], two_sided[kLaneSlots];    // average_radiance
+  // (a valid sample sends its light's `emitted` radiance to the vertex)
   alignas(64) float u[2][kLaneSlots], pmf[kLaneSlots];
   alignas(64) float active[kLaneSlots];
-  // sample_triangle_lights_lanes: the point on the light, the radiance it sends to the vertex and the density.
+  // sample_triangle_lights_lanes: the point on the light and the density.
   alignas(64) float qx[kLaneSlots], qy[kLaneSlots], qz[kLaneSlots];
-  alignas(64) float radiance[3][kLaneSlots], pdf[kLaneSlots];
+  alignas(64) float pdf[kLaneSlots];
   // weigh_light_samples_lanes: where a shadow ray is pending (1), its contribution if unoccluded, and the ray.
   alignas(64) float pending[kLaneSlots], contribution[3][kLaneSlots];
   RayLanes shadow;

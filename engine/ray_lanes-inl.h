@@ -19,7 +19,7 @@ namespace HWY_NAMESPACE {
 
 // Tracer::offset_point: p moved along n (flipped to the side `towards` points to) by epsilon + 4e-6 max_component(|p|).
 inline V3 offset_point(D d, const V3& p, const V3& n, const V3& towards, V epsilon) {
-  const V magnitude = max_of(hn::Abs(p.x), max_of(hn::Abs(p.y), hn::Abs(p.z)));
+  const V magnitude = max_of3(hn::Abs(p.x), hn::Abs(p.y), hn::Abs(p.z));
   const V eps = hn::Add(epsilon, hn::Mul(hn::Set(d, 4e-6f), magnitude));
   const M front = hn::Ge(dot(n, towards), hn::Zero(d));
   auto side = [&](V c) { return hn::Mul(hn::IfThenElse(front, c, hn::Neg(c)), eps); };
