@@ -1,5 +1,6 @@
 #include "apps/bench.h"
 
+#include <CLI/CLI.hpp>
 #include <benchmark/benchmark.h>
 
 #include <unistd.h>

@@ -1,12 +1,15 @@
 #pragma once
 // `candela bench`: ray throughput of the G-buffer pass and of shadow rays, next to raw Embree packet
 // throughput on the same scene and rays, measured with Google Benchmark.
-#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
 #include <vector>
+
+namespace CLI {
+class App;  // CLI11 (CLI/CLI.hpp), included where options are added: it costs ~8 s per translation unit
+}
 
 namespace candela {
 

@@ -6,11 +6,14 @@
 //                                (stages that need history: temporal reuse, the boiling filter)
 //   image FILE WIDTH HEIGHT MIN  an image (PNG or EXR) of that size, not all black, whose every channel of
 //                                every pixel is finite and at least MIN
+//   same FILE REFERENCE          two images (PNG or EXR) of one size whose pixels hold the same bits (EXR headers
+//                                carry a capture date, so the files' bytes differ where the images do not)
 // Prints every problem found and exits 1 if there was any, else 0.
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -85,6 +88,23 @@ void check_image(const std::string& file, int width, int height, float min) {
   if (lit == 0) problem(file, "every pixel is black");
 }
 
+void check_same(const std::string& file, const std::string& reference) {
+  Image image, expected;
+  try {
+    image = read_image(file);
+    expected = read_image(reference);
+  } catch (const InputError& e) {
+    return problem(file, e.what());
+  }
+  if (image.width != expected.width || image.height != expected.height)
+    return problem(file, std::to_string(image.width) + "x" + std::to_string(image.height) + ", but " + reference +
+                             " is " + std::to_string(expected.width) + "x" + std::to_string(expected.height));
+  size_t differ = 0;
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    differ += std::memcmp(&image.pixels[i], &expected.pixels[i], sizeof(vec3)) != 0;
+  if (differ > 0) problem(file, std::to_string(differ) + " pixels differ from " + reference);
+}
+
 }  // namespace
 }  // namespace candela
 
@@ -97,8 +117,13 @@ int main(int argc, char** argv) try {
     } else if (args[i] == "image" && i + 4 < args.size()) {
       candela::check_image(args[i + 1], std::stoi(args[i + 2]), std::stoi(args[i + 3]), std::stof(args[i + 4]));
       i += 5;
+    } else if (args[i] == "same" && i + 2 < args.size()) {
+      candela::check_same(args[i + 1], args[i + 2]);
+      i += 3;
     } else {
-      std::fprintf(stderr, "usage: check_outputs [stats FILE FRAMES STAGE,... | image FILE WIDTH HEIGHT MIN]...\n");
+      std::fprintf(stderr,
+                   "usage: check_outputs [stats FILE FRAMES STAGE,... | image FILE WIDTH HEIGHT MIN | same FILE "
+                   "REFERENCE]...\n");
       return 2;
     }
   }
