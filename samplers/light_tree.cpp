@@ -403,32 +403,48 @@ void LightTreeSampler::sample_many(const ShadingContext& ctx, const vec2* u2, Sa
     group.push_back({u, 1.0f - infinite_.probability(), k});
     for (size_t d = group.size() - 1; d > 0 && group[d].u < group[d - 1].u; --d) std::swap(group[d], group[d - 1]);
   }
-  if (!group.empty()) descend_together(ctx, 0, group.data(), int(group.size()), out);
+  if (!group.empty()) descend_together(ctx, group.data(), int(group.size()), out);
 }
 
-void LightTreeSampler::descend_together(const ShadingContext& ctx, uint32_t node, Descent* group, int count,
-                                        SampledLight* out) const {
-  const Node& n = nodes_[node];
-  ChildWeights w;
-  child_weights(n, ctx, w, true);
-  for (int first = 0; first < count;) {
-    // The run of the first descent left: its child by choose_child, then the descents whose t stays below that
-    // child's end (all of them for the last child with weight).
-    const int k = choose_child(w, group[first].u);
-    int end = first + 1;
-    for (; end < count; ++end) {
-      const double t = group[end].u * w.sum;
-      if (k < w.last && !(t < w.cumulative[k])) break;
-      group[end].u = rescaled(w, k, t);
+// Level by level: every run that enters a node of the next level prefetches that node (all 4 lines), and its
+// weights are computed only once the whole level has been split, so the misses on a level's nodes (up to one per
+// descent; city's tree is ~3 MB, beyond L2) overlap instead of each waiting in turn, as in a depth-first walk.
+// Each descent takes the same steps in the same order as in sample(), so the results are the same bits.
+void LightTreeSampler::descend_together(const ShadingContext& ctx, Descent* group, int count, SampledLight* out) const {
+  struct Run {
+    uint32_t node;
+    int first, end;  // the descents [first, end) of group that reached the node
+  };
+  thread_local std::vector<Run> level, next;
+  level.assign(1, Run{0, 0, count});
+  while (!level.empty()) {
+    next.clear();
+    for (const Run& run : level) {
+      const Node& n = nodes_[run.node];
+      ChildWeights w;
+      child_weights(n, ctx, w, false);
+      for (int first = run.first; first < run.end;) {
+        // The run of the first descent left: its child by choose_child, then the descents whose t stays below
+        // that child's end (all of them for the last child with weight).
+        const int k = choose_child(w, group[first].u);
+        int end = first + 1;
+        for (; end < run.end; ++end) {
+          const double t = group[end].u * w.sum;
+          if (k < w.last && !(t < w.cumulative[k])) break;
+          group[end].u = rescaled(w, k, t);
+        }
+        const float p = probability(w, k);
+        for (int d = first; d < end; ++d) group[d].pmf *= p;
+        if (n.child[k] & kLeaf) {
+          for (int d = first; d < end; ++d) out[group[d].index] = {n.child[k] & ~kLeaf, group[d].pmf};
+        } else {
+          prefetch(nodes_[n.child[k]]);
+          next.push_back({n.child[k], first, end});
+        }
+        first = end;
+      }
     }
-    const float p = probability(w, k);
-    for (int d = first; d < end; ++d) group[d].pmf *= p;
-    if (n.child[k] & kLeaf) {
-      for (int d = first; d < end; ++d) out[group[d].index] = {n.child[k] & ~kLeaf, group[d].pmf};
-    } else {
-      descend_together(ctx, n.child[k], group + first, end - first, out);
-    }
-    first = end;
+    std::swap(level, next);
   }
 }
 

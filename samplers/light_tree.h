@@ -115,8 +115,8 @@ class LightTreeSampler {
     float pmf;
     int index;
   };
-  // The `count` descents of `group` (sorted by u) that reached `node`, down to their lights.
-  void descend_together(const ShadingContext& ctx, uint32_t node, Descent* group, int count, SampledLight* out) const;
+  // The `count` descents of `group` (sorted by u), from the root down to their lights.
+  void descend_together(const ShadingContext& ctx, Descent* group, int count, SampledLight* out) const;
 
   std::vector<Node> nodes_;
   LightBounds root_;           // bounds of all finite lights
