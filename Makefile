@@ -16,11 +16,12 @@ SANITIZE_BUILD ?= build-sanitize
 TSAN_BUILD ?= build-tsan
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 60
-# Left out under sanitizers: the convergence studies (minutes at -O1 with checks, and they only repeat
+# Left out under sanitizers: the convergence studies and the three slowest statistical checks of estimators
+# (Bsdf.WhiteFurnace, the ReSTIR furnace, ReSTIR DI's reuse; minutes at -O1 with checks, and they only repeat
 # code the other tests run) and the viewer's OpenGL tests (ViewerHeadless.*, cli.view_*): Mesa leaks in
 # libraries it unloads before the leak report (no suppression can name them), and a sanitized headless
 # view was seen to hang inside Mesa for 14 minutes. --timeout stops any other hang.
-SANITIZE_EXCLUDE ?= ^(Convergence\.|ConvergenceShared\.|Unbiased\.|ViewerHeadless\.|cli\.view_)
+SANITIZE_EXCLUDE ?= ^(Convergence\.|ConvergenceShared\.|Unbiased\.|ViewerHeadless\.|cli\.view_|Bsdf\.WhiteFurnace$$|PathTracer\.RestirFurnaceMatchesClosedForm$$|DirectLightScene\.RestirDiReuseHelps$$)
 SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1 \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 
