@@ -275,7 +275,7 @@ TEST(Samplers, TreeFrequenciesMatchPmfInTheCity) {
 // sample_many (one shading point, its descents sorted by uniform, each node's weights computed once) gives
 // exactly what sample() gives for each uniform, in whatever order they come (random here; a light tile's come
 // stratified), for 1 to 200 draws at a point of manylights with 4,096 lights, with a directional light beside
-// the finite ones, and with 100,000 lights (a tree of 7 levels, which sample_many walks level by level).
+// the finite ones, and with 200,000 (100,000 quads; a tree of 7 levels, which sample_many walks level by level).
 TEST(Samplers, TreeSampleManyEqualsSample) {
   for (const Scene& scene : {make_manylights_scene(2048, 7), manylights_with_sun(), make_manylights_scene(100000, 7)}) {
     LightList lights(scene);
