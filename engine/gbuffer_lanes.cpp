@@ -193,7 +193,7 @@ void store_packed(D d, M hit, const V3& position, V depth, const V3& ns, const V
   auto sqrt_unit = [&](V v) { return hn::Sqrt(min_of(max_of(v, zero), one)); };  // glm::clamp, then sqrt
   const VU a = hn::Or(hn::Or(unorm8(d, sqrt_unit(albedo.x)), hn::ShiftLeft<8>(unorm8(d, sqrt_unit(albedo.y)))),
                       hn::ShiftLeft<16>(unorm8(d, sqrt_unit(albedo.z))));
-  const V f0 = hn::Sqrt(max_of(specular_f0.x, max_of(specular_f0.y, specular_f0.z)));  // max_component
+  const V f0 = hn::Sqrt(max_of3(specular_f0.x, specular_f0.y, specular_f0.z));  // max_component
   const VU m = hn::Or(hn::Or(unorm8(d, material.x), hn::ShiftLeft<8>(unorm8(d, material.y))),
                       hn::Or(hn::ShiftLeft<16>(unorm8(d, material.z)), hn::ShiftLeft<24>(unorm8(d, f0))));
   const VU none = hn::Zero(du);
