@@ -49,9 +49,16 @@ Unshadowed unshadowed(D d, const ReceiverLanes& r, const BsdfLanes& bsdf, const 
 }
 
 // One vector of one candidate plane: the value with the target BSDF and its luminance (di_target), then
-// (with_bsdf_pdf) the exact BSDF's density in area measure.
+// (with_bsdf_pdf) the exact BSDF's density in area measure. A vector without an active slot gets its zeros
+// unevaluated: a plane is evaluated for a whole row where only some pixels drew that many candidates (most
+// pixels with history draw one), and these are the values the masks below would give it.
 void evaluate(D d, const ReceiverLanes& r, CandidateLanes& c, int s, bool with_bsdf_pdf) {
   const V zero = hn::Zero(d);
+  if (hn::AllFalse(d, hn::Gt(hn::Load(d, c.active + s), zero))) {
+    hn::Store(zero, d, c.p_hat + s);
+    hn::Store(zero, d, c.bsdf_area_pdf + s);
+    return;
+  }
   const Unshadowed u = unshadowed(d, r, r.target, c, s);
   const V p_hat = hn::Add(hn::Add(hn::Mul(hn::Set(d, 0.2126f), u.value[0]), hn::Mul(hn::Set(d, 0.7152f), u.value[1])),
                           hn::Mul(hn::Set(d, 0.0722f), u.value[2]));
