@@ -191,9 +191,13 @@ double BenchResults::median(const std::map<std::string, std::vector<double>>& m,
 
 BenchResults run_registered_benchmarks(const BenchOptions& o) {
   std::string filter_flag = "--benchmark_filter=" + o.filter;
-  int argc = 2;
+  // Every repetition of every benchmark in one random order: drift of a shared machine then hits all benchmarks
+  // alike instead of whichever ran during it, which keeps the summary's ratios (G-buffer / raw rays, frame / rays
+  // alone) from moving with it.
+  char interleave[] = "--benchmark_enable_random_interleaving=true";
+  int argc = 3;
   char arg0[] = "candela";
-  char* argv[] = {arg0, filter_flag.data(), nullptr};
+  char* argv[] = {arg0, filter_flag.data(), interleave, nullptr};
   benchmark::Initialize(&argc, argv);
   BenchResults results;
   CollectingReporter reporter(
