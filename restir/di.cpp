@@ -79,7 +79,8 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         const size_t i = first + size_t(s);
         vec3 L = unsampled ? g.emission[i] + (*unsampled)[i] : vec3(0.0f);
         const DiReservoir& r = reservoirs[i];
-        visibility[i] = DiVisibility{};
+        DiVisibility& v = visibility[i];
+        v = DiVisibility{};
         if (g.hit(i) && r.W > 0.0f) {
           const bool in_lanes = simd && lanes.samples.active[s] > 0.0f;
           const vec3 value =
@@ -87,8 +88,9 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
                               lanes.contributions.value[2][s])
                        : di_contribution(di_exact_receiver(g, view.camera.position(), view.lights, i), r.y).value;
           if (max_component(value) > 0.0f) {
-            DiVisibility& v = visibility[i];
-            v = {r.y.light, r.y.uv, true, false, 0};
+            // Field by field (visible and age stay the reset's): a whole DiVisibility assembled on the stack was
+            // copied in through an overlapping reload that stalled on store forwarding (15% of this stage's samples).
+            v.light = r.y.light, v.uv = r.y.uv, v.valid = true;
             int32_t j = reusing ? (*reuse.history_pixel)[i] : -1;
             const DiVisibility* old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
             if (!(old && old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv)) {
