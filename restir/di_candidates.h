@@ -79,10 +79,14 @@ struct DiCandidateBatch {
     }
     return false;
   }
-  // Light candidate k of slot s as a sample.
-  DiSample candidate(const LightList& lights, int k, int s) const {
+  // Light candidate k of slot s as a sample, written into `out` field by field (returned whole, the sample was
+  // copied out of a temporary through overlapping reloads that stalled on store forwarding).
+  void candidate(const LightList& lights, int k, int s, DiSample& out) const {
     const size_t at = size_t(k) * kLaneSlots + size_t(s);
-    return {light[at], uv[at], light[at] < lights.triangle_count() ? planes[size_t(k)].point(s) : LightPoint{}, 0};
+    out.light = light[at];
+    out.uv = uv[at];
+    out.point = light[at] < lights.triangle_count() ? planes[size_t(k)].point(s) : LightPoint{};
+    out.age = 0;
   }
 };
 
@@ -296,13 +300,14 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
   const float M_l = batch.M_l[slot], M_b = params.effective_bsdf_candidates();
   if (lanes && !batch.drew_punctual(view.lights, params.light_candidates, slot)) {
     r.w_sum = lanes->w_sum[slot];
-    if (const int k = int(lanes->chosen[slot]); k >= 0) r.y = batch.candidate(view.lights, k, slot);
+    if (const int k = int(lanes->chosen[slot]); k >= 0) batch.candidate(view.lights, k, slot, r.y);
     r.p_hat_y = lanes->p_hat[slot];
   } else {
     for (int k = 0; k < params.light_candidates; ++k) {
       const size_t at = size_t(k) * kLaneSlots + size_t(slot);
       if (batch.p_light[at] <= 0.0f) continue;
-      const DiSample s = batch.candidate(view.lights, k, slot);
+      DiSample s;
+      batch.candidate(view.lights, k, slot, s);
       float p_hat = batch.planes[size_t(k)].p_hat[slot], p_bsdf = batch.planes[size_t(k)].bsdf_area_pdf[slot];
       if (s.light >= view.lights.triangle_count()) {  // punctual: not in the lanes
         p_hat = di_target(di_contribution(batch.target(domain, slot), s));
