@@ -500,6 +500,7 @@ GBufferInstances::GBufferInstances(const Scene& scene)
     r[kHasNormals] = !mesh.normals.empty();
     plain[k] = !m.base_color_tex.valid() && !m.metallic_roughness_tex.valid() && !m.specular_tex.valid() &&
                !m.specular_color_tex.valid() && !m.normal_tex.valid() && !m.emissive_tex.valid();
+    all_plain = all_plain && plain[k];
   }
 }
 

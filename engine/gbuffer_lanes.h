@@ -46,6 +46,7 @@ struct GBufferInstances {
   std::vector<MeshArrays> meshes;       // per instance
   std::vector<mat4> prev_from_current;  // identity for static instances
   std::vector<uint8_t> plain;           // 1: the material has no textures, the kernel's values are final
+  bool all_plain = true;                // every instance's material is plain: no hit needs surface_at
   // Whether the kernels' surface of a hit on `instance` is final (a hit on a plain material), or surface_at's
   // is needed (a textured one; kNoHit: no surface).
   bool in_lanes(uint32_t instance) const { return instance != kNoHit && plain[instance]; }
