@@ -23,7 +23,7 @@ DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
 
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
               const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, bool simd,
-              std::vector<DiVisibility>& visibility, Image& sum, RayCounter& rays, Counter& non_finite) {
+              std::vector<DiVisibility>& visibility, Image& sum, RayCounter& rays, Counter& non_finite, float weight) {
   const bool reusing = reuse.max_age > 0 && reuse.history_pixel && reuse.previous &&
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
   visibility.resize(
@@ -96,12 +96,12 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
             if (!(old && old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv)) {
               queue.add(in_lanes ? lanes.rays.ray(s)
                                  : di_shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], view.lights, r.y),
-                        {i, L, value * r.W});
+                        {i, L, value * (r.W * weight)});
               continue;
             }
             v.visible = old->visible;
             v.age = uint8_t(old->age + 1);
-            if (v.visible) L += value * r.W;
+            if (v.visible) L += value * (r.W * weight);
           }
         }
         finish(i, L);

@@ -475,8 +475,9 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
 
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
-                      std::vector<DiReservoir>& out, RayCounter& rays) {
+                      std::vector<DiReservoir>& out, RayCounter& rays, int draw_index) {
   const std::span<const PackedSurface> surfaces = current.surfaces;
+  const uint64_t draw_key = 0x100 * uint64_t(draw_index);  // another draw's streams (0: the pass's own)
   const int width = current.width, height = current.height;
   out.resize(in.size());  // every pixel is written by its tile row below
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
@@ -520,7 +521,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   const int blocks_x = (width + block - 1) / block;
   auto block_start = [&](int x, int y) {
     const uint64_t b = uint64_t(y / block) * uint64_t(blocks_x) + uint64_t(x / block);
-    return Rng::for_key(params.seed, b, uint64_t(frame), 0xd5 + uint64_t(pass)).next_u32();
+    return Rng::for_key(params.seed, b, uint64_t(frame), 0xd5 + uint64_t(pass) + draw_key).next_u32();
   };
   // shared_start: the pixel's block's start (block > 1); streams: the row's, the pixel's in slot s.
   auto draw = [&](size_t i, int x, int y, uint32_t shared_start, ReuseStreams& streams, int s, Drawn& d) {
@@ -591,7 +592,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         const int x = tile.x0 + s;
         batch.start[s] = s > 0 && x % block != 0 ? batch.start[s - 1] : block_start(x, y);
       }
-      batch.streams.key(slots, params.seed, first, uint64_t(frame), 0xd3 + uint64_t(pass));  // Rng::for_key
+      batch.streams.key(slots, params.seed, first, uint64_t(frame), 0xd3 + uint64_t(pass) + draw_key);  // Rng::for_key
       for (int s = 0; s < slots; ++s)
         draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.streams, s, batch.drawn[s]);
       if (params.simd) test_similar(first, slots, batch.drawn, batch.neighbours);

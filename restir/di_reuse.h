@@ -36,7 +36,10 @@ struct DiReuseParams {
                                      // unbiased, the choice ignores the samples); 4 chosen at equal time
                                      // (docs/restir.md, "Neighbour offsets")
   int spatial_passes = 1;
-  float depth_tolerance = 0.1f;   // neighbours whose linear depth differs by more (relative) are rejected
+  int shaded_samples = 1;        // the last spatial pass drawn this many times (independent neighbours and choices from
+                                 // the same inputs), each draw shaded with weight 1/n; the first draw becomes history.
+                                 // Unbiased (each draw is the one-draw estimator); with spatial reuse only
+  float depth_tolerance = 0.1f;  // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
   DiBiasCorrection bias = DiBiasCorrection::Pairwise;
   bool mis_visibility = false;      // the MIS weights include visibility of the sample from the other inputs'
@@ -111,11 +114,12 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
 // Stage "di_spatial": reads the surfaces and `in`, writes `out` combining each pixel with up to k
 // similar neighbours within the radius, one tile row at a time as temporal reuse does (2 target
 // evaluations per neighbour, in lanes). No rays, except with mis_visibility. `pass` selects its own random
-// stream. With `history_pixel` (temporal reuse ran), the first pass gives pixels without history
+// stream, and so does `draw_index` (> 0: another draw of the same pass from the same inputs, DiReuseParams::
+// shaded_samples). With `history_pixel` (temporal reuse ran), the first pass gives pixels without history
 // disocclusion_neighbours instead.
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
-                      std::vector<DiReservoir>& out, RayCounter& rays);
+                      std::vector<DiReservoir>& out, RayCounter& rays, int draw_index = 0);
 
 // Stage "di_boiling_filter": reads and rewrites the reservoirs. Temporal reuse can make a rare sample with
 // a huge contribution weight spread to its neighbours frame after frame ("boiling"); this drops every

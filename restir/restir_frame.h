@@ -24,6 +24,9 @@ struct ReservoirChain {
   std::vector<DiReservoir> initial, temporal, spatial[2], history;
   std::vector<int32_t> history_pixel;
   std::vector<DiVisibility> visibility, prev_visibility;
+  // The last spatial pass's further draws (DiReuseParams::shaded_samples), shaded and then forgotten.
+  std::vector<std::vector<DiReservoir>> draws;
+  std::vector<DiVisibility> draw_visibility;
 };
 
 struct RestirSettings {

@@ -46,7 +46,8 @@ testing::Runs path_traced_runs(const Scene& scene, int w, int h, int depth, int 
 // ReSTIR DI with temporal and spatial reuse on still manylights (256 lights), 48x27, 192 runs of 6
 // frames, against 64 runs of 64 direct-light paths per pixel (path tracer, max depth 1). Unbiased:
 // basic and pairwise, without visibility anywhere and with visibility-tested candidates plus visibility in
-// the weights, and pairwise with BSDF candidates drawn at probability 0.3 (counted as 0.3 of a candidate). Known
+// the weights, pairwise with BSDF candidates drawn at probability 0.3 (counted as 0.3 of a candidate), and pairwise
+// with three shaded draws of the spatial pass (DiReuseParams::shaded_samples, each weighted 1/3). Known
 // biased, so the harness must reject them here: visibility-tested candidates with weights that ignore visibility, for
 // basic (the broken weight) and for none (1/M), and the default, which drops the samples shading found occluded from
 // the history (DiReuseParams::drop_occluded: the reservoirs reused next are then visibility-tested, as with visible
@@ -65,6 +66,7 @@ TEST(Unbiased, RestirDi) {
     Expect expect;
     double bsdf_probability = 1.0;
     int history_candidates = DiParams{}.history_light_candidates;  // pixels with history draw this many
+    int shaded_samples = 1;
   };
   for (Mode mode :
        {Mode{"basic", "basic", false, false, false, Expect::Unbiased},
@@ -74,6 +76,8 @@ TEST(Unbiased, RestirDi) {
         Mode{"pairwise, BSDF candidates at probability 0.3", "pairwise", false, false, false, Expect::Unbiased, 0.3},
         Mode{"pairwise, as many light candidates with history", "pairwise", false, false, false, Expect::Unbiased, 1.0,
              DiParams{}.light_candidates},
+        Mode{"pairwise, three shaded draws", "pairwise", false, false, false, Expect::Unbiased, 1.0,
+             DiParams{}.history_light_candidates, 3},
         Mode{"basic, visible candidates", "basic", false, true, false, Expect::Biased},
         Mode{"none, visible candidates", "none", false, true, false, Expect::Biased},
         Mode{"pairwise, drop occluded (the default)", "pairwise", false, false, true, Expect::Biased},
@@ -85,6 +89,7 @@ TEST(Unbiased, RestirDi) {
                                                 {"di_drop_occluded", mode.drop_occluded},
                                                 {"di_bsdf_probability", mode.bsdf_probability},
                                                 {"di_history_candidates", mode.history_candidates},
+                                                {"di_shaded_samples", mode.shaded_samples},
                                                 {"di_radius", 6}},
                                                run_settings(w, h, Method::RestirDi, 0));
     const testing::Verdict v = testing::compare_runs(restir_runs(scene, s, runs, frames, 1000), reference);

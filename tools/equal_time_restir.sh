@@ -6,10 +6,12 @@
 # time budget of one frame of the other estimator. Both images are compared with a converged reference
 # (1024 spp of that estimator, another seed). Primary rays go through pixel centres (--no-jitter) in all
 # renders, so the error measured is the light transport estimator's, not aliasing.
-# usage: tools/equal_time_restir.sh SCENE [restir-di|restir] [REFERENCE_SPP]    (writes into out/equal_time/)
+# usage: tools/equal_time_restir.sh SCENE [restir-di|restir] [REFERENCE_SPP] [RESTIR OPTIONS...]
+#   (writes into out/equal_time/; options after the third argument go to the ReSTIR render alone, e.g.
+#   --di-shaded-samples 2)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scene=$1; method=${2:-restir-di}; ref_spp=${3:-1024}
+scene=$1; method=${2:-restir-di}; ref_spp=${3:-1024}; shift $(( $# < 3 ? $# : 3 )); restir_options=("$@")
 out=out/equal_time; mkdir -p "$out"
 name=$(basename "$scene" .gltf); name=${name#builtin:}
 common=(--width 320 --height 180 --environment 0 --no-jitter -q)
@@ -21,7 +23,7 @@ fi
 ref="$out/${name}_${method}_reference.exr"
 [ -f "$ref" ] || ./build/candela render "$scene" "${common[@]}" "${other[@]}" --spp "$ref_spp" --seed 99 --out "$ref"
 restir="$out/${name}_${method}.exr"
-./build/candela render "$scene" "${common[@]}" --method "$method" --frames 16 --no-accumulate \
+./build/candela render "$scene" "${common[@]}" --method "$method" "${restir_options[@]}" --frames 16 --no-accumulate \
   --stats "$out/${name}_${method}.json" --out "$restir"
 budget=$(python3 -c "
 import json, sys
