@@ -42,17 +42,18 @@ printf "%-18s budget %.1f ms | %s (frame 16) relMSE %s | %s %s spp relMSE %s | r
   "$name" "$budget" "$method" "$rel_restir" "$other_name" "$spp" "$rel_plain" "$(python3 -c "print($rel_restir / $rel_plain)")"
 # The other estimator renders whole samples per pixel (at least one), so the ratio above jumps where the budget
 # crosses a multiple of its sample's time. Its error at exactly the budget, from variance x time being constant for
-# an average of independent samples: one sample per pixel, warm (the median time of frames 3-6, the last frame's
-# error), scaled by its time over the budget.
-one="$out/${name}_${method}_one_spp.exr"
-./build/candela render "$scene" "${common[@]}" "${other[@]}" --spp 1 --frames 6 --no-accumulate \
-  --stats "$out/${name}_${method}_one_spp.json" --out "$one"
+# an average of independent samples: the error of one sample per pixel (its equal-time render's error times its
+# samples per pixel: the same instant as the reference, where the scene moves) and the warm time of one sample per
+# pixel (the median estimator time of frames 3-6 of a 1-spp run), scaled by that time over the budget.
+times="$out/${name}_${method}_one_spp.json"
+./build/candela render "$scene" "${common[@]}" "${other[@]}" --spp 1 --frames 6 --no-accumulate --stats "$times" \
+  --out "$out/${name}_${method}_one_spp.exr"
 one_ms=$(python3 -c "
 import json, statistics, sys
 frames = json.load(open(sys.argv[1]))[2:]
 print(statistics.median(sum(s['ms'] for s in f['stages'] if s['name'] not in ('scene_update', 'gbuffer'))
-                        for f in frames))" "$out/${name}_${method}_one_spp.json")
-rel_one=$(./build/candela compare "$one" "$ref" | sed 's/.*rel_mse \([^ ]*\).*/\1/')
-printf "%-18s %s 1 spp: %.1f ms, relMSE %s; at the budget by variance x time %.3f | ratio %.3f\n" \
+                        for f in frames))" "$times")
+rel_one=$(python3 -c "print($rel_plain * $spp)")
+printf "%-18s %s 1 spp: %.1f ms, relMSE %.4g; at the budget by variance x time %.4g | ratio %.3f\n" \
   "$name" "$other_name" "$one_ms" "$rel_one" "$(python3 -c "print($rel_one * $one_ms / $budget)")" \
   "$(python3 -c "print($rel_restir / ($rel_one * $one_ms / $budget))")"
