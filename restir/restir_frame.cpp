@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "engine/parallel.h"
+
 namespace candela {
 
 void Restir::forget_history() {
@@ -23,10 +25,13 @@ DiDomain Restir::previous_domain(const RestirFrame& frame, const GBuffer& g) con
 // a pixel's strongest unshadowed sample is occluded, temporal reuse would otherwise choose it frame after
 // frame and shade black. Shading integrates f V, to which an occluded sample contributes nothing, so the
 // history of a still pixel stays unbiased; a neighbour that sees the sample, or this pixel once the
-// occluder moved, loses its share (darkening at shadow edges). Cost: one pass over the verdicts.
+// occluder moved, loses its share (darkening at shadow edges). Cost: one pass over the verdicts, in parallel
+// ranges of 4096 pixels (on one thread it was ~0.5% of a restir-di frame's wall time).
 static void drop_occluded_samples(const std::vector<DiVisibility>& visibility, std::vector<DiReservoir>& reservoirs) {
-  for (size_t i = 0; i < reservoirs.size(); ++i)
-    if (visibility[i].valid && !visibility[i].visible) reservoirs[i].W = reservoirs[i].w_sum = 0.0f;
+  parallel_for_ranges(size_t(0), reservoirs.size(), size_t(4096), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i)
+      if (visibility[i].valid && !visibility[i].visible) reservoirs[i].W = reservoirs[i].w_sum = 0.0f;
+  });
 }
 
 bool Restir::find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
