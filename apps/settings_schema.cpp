@@ -105,9 +105,11 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
   rows.back().widget_max = 16;
   rows.push_back(number_row(key("spatial_passes"), group, SettingType::Int, 1, 8, field(&DiReuseParams::spatial_passes),
                             "Spatial reuse passes", methods));
-  rows.push_back(number_row(key("shaded_samples"), group, SettingType::Int, 1, 8, field(&DiReuseParams::shaded_samples),
-                            "Draws of the last spatial pass, each shaded with its own shadow ray and weighted 1/n "
-                            "(the first becomes history; needs spatial reuse)",
+  rows.push_back(number_row(key("shaded_samples"), group, SettingType::Int, 1, kMaxShadedSamples,
+                            field(&DiReuseParams::shaded_samples),
+                            "Samples the last spatial pass keeps of each pixel's combination (stratified over its "
+                            "weights), each shaded with its own shadow ray and weighted 1/n (the first becomes "
+                            "history; needs spatial reuse)",
                             methods));
   rows.push_back(number_row(key("disocclusion_neighbours"), group, SettingType::Int, 0, 31,
                             field(&DiReuseParams::disocclusion_neighbours),

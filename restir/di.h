@@ -191,7 +191,7 @@ struct DiVisibilityReuse {
 // in `non_finite`. One shadow ray per pixel with a sample (in packets of 16), except where a verdict is
 // reused. With `simd`, the exact receivers and contributions are evaluated in lanes (target_lanes.h; the
 // scalar path, the reference, gives the same bits). The sample's term counts `weight` times (1/n for each of n
-// draws shaded, DiReuseParams::shaded_samples).
+// samples shaded, DiReuseParams::shaded_samples).
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
               const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, bool simd,
               std::vector<DiVisibility>& visibility, Image& sum, RayCounter& rays, Counter& non_finite,

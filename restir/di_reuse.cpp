@@ -220,12 +220,21 @@ float reconnection_jacobian(const LightPoint& sample, const vec3& here, const ve
   return from_own > 0.0f ? solid_angle_per_area(here) / from_own : kInfinity;
 }
 
+// What a combination resampled: each input's resampling weight (0 where it was skipped) and target at the
+// combining pixel, and which input it kept (-1: none).
+struct Resampled {
+  float w[kMaxReuseInputs], p_hat[kMaxReuseInputs];
+  int chosen = -1;
+};
+
 // Combines the inputs into one reservoir for the pixel of inputs[0] (the receiver's own reservoir); the
 // result's sample is placed in input 0's frame. The canonical input's target at its own sample is the one
-// its reservoir stored; `lanes` (or null) holds targets evaluated beforehand.
+// its reservoir stored; `lanes` (or null) holds targets evaluated beforehand. `resampled` (or null) receives
+// the weights it streamed.
 DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count, const DiReuseParams& params,
-                    const SlotTargets* lanes, Rng& rng, uint64_t& rays) {
+                    const SlotTargets* lanes, Rng& rng, uint64_t& rays, Resampled* resampled = nullptr) {
   DiReservoir out;
+  if (resampled) std::fill(resampled->w, resampled->w + count, 0.0f);
   InputTargets targets(inputs, count, lanes);
   const LightList* here_lights = &inputs[0].domain->lights;
   const vec3& here_position = inputs[0].domain->surfaces[inputs[0].pixel].position;
@@ -243,7 +252,12 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
     const PlacedSample y{own, &in.domain->lights, here, here_lights};
     float p_hat_here = k == 0 ? in.reservoir->p_hat_y : targets.at(view, 0, k, y);
     float m = mis_weight(view, inputs, targets, count, k, k, y, p_hat_here, params, rays);
-    out.update(here, m * p_hat_here * in.reservoir->W, p_hat_here, u);
+    const float w = m * p_hat_here * in.reservoir->W;
+    const bool kept = out.update(here, w, p_hat_here, u);
+    if (resampled) {
+      resampled->w[k] = w, resampled->p_hat[k] = p_hat_here;
+      if (kept) resampled->chosen = k;
+    }
   }
   out.finalize();
   return out;
@@ -296,13 +310,42 @@ int gather_combinations(const ReuseRow& row, int slots, const bool* in_lanes, co
   return max_count;
 }
 
+// Further samples of a tile row's combinations (DiReuseParams::shaded_samples): (*out)[j][first + slot] receives
+// slot's sample j + 2, drawn with the uniform v[slot].
+struct FurtherSamples {
+  std::vector<std::vector<DiReservoir>>* out;
+  const float* v;
+};
+
+// The further samples of slot s's combination `r` (whose weights are `resampled`) into further.out at pixel i, by
+// systematic resampling (systematic_picks, reservoir.h): each is kept as the combination keeps its one and gets its
+// contribution weight w_sum / p_0(y), so every reservoir is the combination's estimator, and the samples are
+// stratified over the weights.
+void select_further(const SceneView& view, const ReuseRow& row, int s, int count, const Resampled& resampled,
+                    const DiReservoir& r, float v, size_t i, const FurtherSamples& further) {
+  const int n = int(further.out->size()) + 1;
+  CHECK(n <= kMaxShadedSamples);
+  int picks[kMaxShadedSamples];
+  const bool sampled = resampled.chosen >= 0 && r.W > 0.0f;
+  if (sampled) systematic_picks(resampled.w, count, resampled.chosen, v, n, picks);
+  for (int j = 1; j < n; ++j) {
+    DiReservoir& out = (*further.out)[size_t(j - 1)][i];
+    out = r;
+    if (!sampled) continue;
+    const int k = picks[j];
+    place_for_combiner(view, row.inputs[k][s], &row.inputs[0][s].domain->lights, out.y);
+    out.p_hat_y = resampled.p_hat[k];
+    out.finalize();
+  }
+}
+
 // Combines every slot of a tile row (ReuseRow) into out[first + slot], with the targets evaluated in lanes
 // first where params.simd, and with pairwise MIS the combinations too (resample_lanes.h; slots whose targets
 // or visibilities are not all known combine one at a time); `streams` gives each slot's random numbers. A
 // slot without inputs keeps its reservoir of `in`. Returns the rays traced.
 uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row,
                      const ReuseStreams& streams, size_t first, const std::vector<DiReservoir>& in,
-                     std::vector<DiReservoir>& out) {
+                     std::vector<DiReservoir>& out, const FurtherSamples* further = nullptr) {
   const bool weights = params.bias != DiBiasCorrection::None;
   uint64_t traced =
       params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
@@ -314,15 +357,21 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
       combine_pairwise_lanes(lanes, slots, max_count, params.mis_visibility);
   }
   DiReuseInput inputs[kMaxReuseInputs];  // a slot's inputs, for combining it one at a time
+  Resampled resampled;
   for (int s = 0; s < slots; ++s) {
-    DiReservoir& r = out[first + size_t(s)];
+    const size_t i = first + size_t(s);
+    DiReservoir& r = out[i];
     if (row.count[s] == 0) {
-      r = in[first + size_t(s)];
-    } else if (!in_lanes[s]) {
+      r = in[i];
+      for (int j = 0; further && j < int(further->out->size()); ++j) (*further->out)[size_t(j)][i] = r;
+      continue;
+    }
+    if (!in_lanes[s]) {
       for (int k = 0; k < row.count[s]; ++k) inputs[k] = row.inputs[k][s];
       const SlotTargets targets{row, s};
       Rng rng = streams.stream(s);
-      r = combine(view, inputs, row.count[s], params, params.simd ? &targets : nullptr, rng, traced);
+      r = combine(view, inputs, row.count[s], params, params.simd ? &targets : nullptr, rng, traced,
+                  further ? &resampled : nullptr);
     } else {
       // The kept input's sample, placed for the combining pixel, with the lanes' sums.
       static const DiSample kNone{};
@@ -331,7 +380,13 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
       else
         r.y = kNone;
       r.p_hat_y = lanes.result.p_hat[s], r.w_sum = lanes.result.w_sum[s], r.M = lanes.M_sum[s], r.W = lanes.W_out[s];
+      if (further) {
+        resampled.chosen = int(lanes.result.chosen[s]);
+        for (int k = 0; k < row.count[s]; ++k)
+          resampled.w[k] = lanes.w[k][s], resampled.p_hat[k] = k == 0 ? lanes.own[0][s] : row.at_combiner[k][s];
+      }
     }
+    if (further) select_further(view, row, s, row.count[s], resampled, r, further->v[s], i, *further);
   }
   return traced;
 }
@@ -475,9 +530,11 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
 
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
-                      std::vector<DiReservoir>& out, RayCounter& rays, int draw_index) {
+                      std::vector<DiReservoir>& out, RayCounter& rays, std::vector<std::vector<DiReservoir>>* further) {
   const std::span<const PackedSurface> surfaces = current.surfaces;
-  const uint64_t draw_key = 0x100 * uint64_t(draw_index);  // another draw's streams (0: the pass's own)
+  if (further && further->empty()) further = nullptr;
+  if (further)
+    for (std::vector<DiReservoir>& samples : *further) samples.resize(in.size());
   const int width = current.width, height = current.height;
   out.resize(in.size());  // every pixel is written by its tile row below
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
@@ -521,7 +578,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   const int blocks_x = (width + block - 1) / block;
   auto block_start = [&](int x, int y) {
     const uint64_t b = uint64_t(y / block) * uint64_t(blocks_x) + uint64_t(x / block);
-    return Rng::for_key(params.seed, b, uint64_t(frame), 0xd5 + uint64_t(pass) + draw_key).next_u32();
+    return Rng::for_key(params.seed, b, uint64_t(frame), 0xd5 + uint64_t(pass)).next_u32();
   };
   // shared_start: the pixel's block's start (block > 1); streams: the row's, the pixel's in slot s.
   auto draw = [&](size_t i, int x, int y, uint32_t shared_start, ReuseStreams& streams, int s, Drawn& d) {
@@ -579,6 +636,8 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
       ReuseRow row;
       Drawn drawn[kLaneSlots];
       ReuseStreams streams;
+      ReuseStreams further_streams;  // further: the uniforms of the further samples
+      alignas(64) float v[kLaneSlots];
       uint32_t start[kLaneSlots] = {};  // block > 1: each slot's block's start
       NeighbourLanes neighbours;        // params.simd
     };
@@ -592,13 +651,18 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         const int x = tile.x0 + s;
         batch.start[s] = s > 0 && x % block != 0 ? batch.start[s - 1] : block_start(x, y);
       }
-      batch.streams.key(slots, params.seed, first, uint64_t(frame), 0xd3 + uint64_t(pass) + draw_key);  // Rng::for_key
+      batch.streams.key(slots, params.seed, first, uint64_t(frame), 0xd3 + uint64_t(pass));  // Rng::for_key
       for (int s = 0; s < slots; ++s)
         draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.streams, s, batch.drawn[s]);
       if (params.simd) test_similar(first, slots, batch.drawn, batch.neighbours);
       for (int s = 0; s < slots; ++s)
         select(first + size_t(s), batch.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row);
-      traced += combine_row(view, params, slots, batch.row, batch.streams, first, in, out);
+      if (further) {
+        batch.further_streams.key(slots, params.seed, first, uint64_t(frame), 0xe1 + uint64_t(pass));
+        batch.further_streams.fill(1, slots, batch.v);
+      }
+      const FurtherSamples more{further, batch.v};
+      traced += combine_row(view, params, slots, batch.row, batch.streams, first, in, out, further ? &more : nullptr);
     }
     rays.add(traced);
   });

@@ -15,6 +15,8 @@ namespace candela {
 
 enum class DiBiasCorrection : uint8_t { None, Basic, Pairwise };
 
+inline constexpr int kMaxShadedSamples = 8;  // DiReuseParams::shaded_samples's bound
+
 struct DiReuseParams {
   bool temporal = true;
   float history_cap = 20.0f;          // the previous reservoir counts at most this many times the current M
@@ -36,9 +38,9 @@ struct DiReuseParams {
                                      // unbiased, the choice ignores the samples); 4 chosen at equal time
                                      // (docs/restir.md, "Neighbour offsets")
   int spatial_passes = 1;
-  int shaded_samples = 1;        // the last spatial pass drawn this many times (independent neighbours and choices from
-                                 // the same inputs), each draw shaded with weight 1/n; the first draw becomes history.
-                                 // Unbiased (each draw is the one-draw estimator); with spatial reuse only
+  int shaded_samples = 1;        // samples the last spatial pass keeps of each pixel's combination (stratified over its
+                                 // weights), each shaded with weight 1/n; the first becomes history. Unbiased (each is
+                                 // the one-sample estimator); with spatial reuse only
   float depth_tolerance = 0.1f;  // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
   DiBiasCorrection bias = DiBiasCorrection::Pairwise;
@@ -114,12 +116,15 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
 // Stage "di_spatial": reads the surfaces and `in`, writes `out` combining each pixel with up to k
 // similar neighbours within the radius, one tile row at a time as temporal reuse does (2 target
 // evaluations per neighbour, in lanes). No rays, except with mis_visibility. `pass` selects its own random
-// stream, and so does `draw_index` (> 0: another draw of the same pass from the same inputs, DiReuseParams::
-// shaded_samples). With `history_pixel` (temporal reuse ran), the first pass gives pixels without history
-// disocclusion_neighbours instead.
+// stream. With `history_pixel` (temporal reuse ran), the first pass gives pixels without history
+// disocclusion_neighbours instead. With `further` (DiReuseParams::shaded_samples), each of its n - 1 vectors
+// receives one more sample of every pixel's combination, and the n samples are stratified over the combination's
+// weights (systematic resampling, di_reuse.cpp's select_further); each is the combination's estimator. Cost: a pass
+// over the pixel's inputs' weights per further sample.
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
-                      std::vector<DiReservoir>& out, RayCounter& rays, int draw_index = 0);
+                      std::vector<DiReservoir>& out, RayCounter& rays,
+                      std::vector<std::vector<DiReservoir>>* further = nullptr);
 
 // Stage "di_boiling_filter": reads and rewrites the reservoirs. Temporal reuse can make a rare sample with
 // a huge contribution weight spread to its neighbours frame after frame ("boiling"); this drops every

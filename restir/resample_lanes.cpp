@@ -83,7 +83,10 @@ void combine(D d, CombineLanes& c, int s, int max_count, bool visibility) {
     const V W = hn::Load(d, c.W[k] + s);
     M_sum = hn::IfThenElse(has, hn::Add(M_sum, hn::Load(d, c.M[k] + s)), M_sum);
     const M sampled = hn::AndNot(hn::Le(W, zero), has);  // combine skips inputs with W <= 0
-    if (hn::AllFalse(d, sampled)) continue;
+    if (hn::AllFalse(d, sampled)) {
+      hn::Store(zero, d, c.w[k] + s);
+      continue;
+    }
     // The target at the combining pixel: its own stored one for k = 0, else p_0(y_k).
     const V p_here = hn::Load(d, (k == 0 ? c.own[0] : c.at[k]) + s);
     const V canonical = hn::Mul(hn::Div(M0, n), p_here);
@@ -97,7 +100,9 @@ void combine(D d, CombineLanes& c, int s, int max_count, bool visibility) {
       m = hn::IfThenElseZero(hn::Gt(sum, zero), hn::Div(hn::Div(t, sum), n));
     }
     m = hn::IfThenElse(alone, one, m);
-    update(d, sampled, hn::Mul(hn::Mul(m, p_here), W), p_here, hn::Load(d, c.u[k] + s), k, r);
+    const V w = hn::Mul(hn::Mul(m, p_here), W);
+    hn::Store(hn::IfThenElseZero(sampled, w), d, c.w[k] + s);
+    update(d, sampled, w, p_here, hn::Load(d, c.u[k] + s), k, r);
   }
   // Reservoir::finalize: W = w_sum / p_hat where p_hat > 0 and the quotient is finite, else 0.
   const V W = hn::IfThenElseZero(hn::Gt(r.p_hat, zero), hn::Div(r.w_sum, r.p_hat));

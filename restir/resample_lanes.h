@@ -39,8 +39,9 @@ struct CombineLanes {
   alignas(64) float own_visible[kMaxReuseInputs][kLaneSlots];
   alignas(64) float of_visible[kMaxReuseInputs][kLaneSlots];
   // Written by the kernel: the stream's result, the total confidence and the result's contribution weight
-  // (Reservoir::finalize).
+  // (Reservoir::finalize), and each input's resampling weight (0 where it was skipped; inputs below max_count).
   StreamLanes result;
+  alignas(64) float w[kMaxReuseInputs][kLaneSlots];
   alignas(64) float M_sum[kLaneSlots], W_out[kLaneSlots];
 };
 

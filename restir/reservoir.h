@@ -47,4 +47,32 @@ struct Reservoir {
   }
 };
 
+// Systematic resampling (Kitagawa 1996; Douc and Cappe 2005) after a stream kept candidate `chosen` (chosen >= 0)
+// of the weights w[0..count): picks[j] (j < n) is the candidate whose interval of the weights' running sum holds
+// point j, where point 0 lies a fraction v into the kept candidate's interval and the others follow at steps of
+// sum / n, wrapping around. As the stream kept `chosen` with probability w_chosen / sum and v is uniform in [0, 1),
+// point 0 is uniform in [0, sum), and so is every point: each pick is kept with probability w_k / sum, as the stream
+// keeps its one, while together the picks are stratified over the weights (a candidate with a fraction f of the sum is
+// picked floor(n f) or ceil(n f) times). picks[0] is `chosen`. Cost: two passes over the weights per pick.
+inline void systematic_picks(const float* w, int count, int chosen, float v, int n, int* picks) {
+  float start = 0.0f, sum = 0.0f;  // the kept candidate's interval starts at `start`
+  for (int k = 0; k < count; ++k) {
+    if (k == chosen) start = sum;
+    sum += w[k];
+  }
+  const float first = start + v * w[chosen];
+  picks[0] = chosen;
+  for (int j = 1; j < n; ++j) {
+    float point = first + float(j) * sum / float(n);
+    if (point >= sum) point -= sum;
+    int k = 0;
+    for (float end = 0.0f; k < count; ++k) {
+      end += w[k];
+      if (w[k] > 0.0f && point < end) break;
+    }
+    while (k == count || !(w[k] > 0.0f)) --k;  // beyond the sum by rounding: the last candidate with weight
+    picks[j] = k;
+  }
+}
+
 }  // namespace candela

@@ -64,35 +64,29 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
     StageTimer timer(stats, prefix + "_boiling_filter");
     di_boiling_filter(current, reuse.boiling_threshold, chain.temporal);
   }
-  const std::vector<DiReservoir>* last_input = result;  // the last spatial pass's
+  // The last spatial pass keeps shaded_samples samples of each combination (di_spatial_reuse's further samples):
+  // each is the combination's estimator, so their mean is unbiased and averages out part of what one sample's shadow
+  // ray leaves.
+  const int samples = reuse.spatial ? std::clamp(reuse.shaded_samples, 1, kMaxShadedSamples) : 1;
+  chain.further.resize(size_t(samples - 1));
   for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
     StageTimer timer(stats, prefix + "_spatial");
-    last_input = result;
     di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr,
-                     chain.spatial[k % 2], timer.rays());
+                     chain.spatial[k % 2], timer.rays(), k == reuse.spatial_passes - 1 ? &chain.further : nullptr);
     result = &chain.spatial[k % 2];
-  }
-  // The last spatial pass drawn again from the same inputs (shaded_samples): each draw is the same estimator with its
-  // own neighbours and choices, so their mean is unbiased and averages out part of what one draw's shadow ray leaves.
-  const int draws = reuse.spatial ? std::max(reuse.shaded_samples, 1) : 1;
-  chain.draws.resize(size_t(draws - 1));
-  for (int d = 1; d < draws; ++d) {
-    StageTimer timer(stats, prefix + "_spatial");
-    di_spatial_reuse(view, current, *last_input, reuse, key, reuse.spatial_passes - 1,
-                     temporal ? &chain.history_pixel : nullptr, chain.draws[size_t(d - 1)], timer.rays(), d);
   }
   {
     StageTimer timer(stats, prefix + "_shade");
     std::swap(chain.visibility, chain.prev_visibility);
     DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr,
                                  &chain.prev_visibility};
-    const float weight = 1.0f / float(draws);
+    const float weight = 1.0f / float(samples);
     di_shade(view, g, *result, unsampled, visibility, reuse.simd, chain.visibility, sum, timer.rays(),
              timer.non_finite(), weight);
-    // The further draws add their sample's term alone (no emission or unsampled light: the first draw added them),
-    // with verdicts of their own that no later frame reads.
-    for (const std::vector<DiReservoir>& draw : chain.draws)
-      di_shade(view, g, draw, nullptr, DiVisibilityReuse{}, reuse.simd, chain.draw_visibility, sum, timer.rays(),
+    // The further samples add their term alone (no emission or unsampled light: the first sample added them), with
+    // verdicts of their own that no later frame reads.
+    for (const std::vector<DiReservoir>& further : chain.further)
+      di_shade(view, g, further, nullptr, DiVisibilityReuse{}, reuse.simd, chain.further_visibility, sum, timer.rays(),
                timer.non_finite(), weight);
     if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);
   }

@@ -24,9 +24,9 @@ struct ReservoirChain {
   std::vector<DiReservoir> initial, temporal, spatial[2], history;
   std::vector<int32_t> history_pixel;
   std::vector<DiVisibility> visibility, prev_visibility;
-  // The last spatial pass's further draws (DiReuseParams::shaded_samples), shaded and then forgotten.
-  std::vector<std::vector<DiReservoir>> draws;
-  std::vector<DiVisibility> draw_visibility;
+  // The last spatial pass's further samples (DiReuseParams::shaded_samples), shaded and then forgotten.
+  std::vector<std::vector<DiReservoir>> further;
+  std::vector<DiVisibility> further_visibility;
 };
 
 struct RestirSettings {

@@ -86,6 +86,69 @@ TEST(Reservoir, MergeIsUnbiased) {
   EXPECT_NEAR(e.mean, integral_f(0, 1), 4.0 * e.error);
 }
 
+// Systematic picks after streaming RIS (systematic_picks; ReSTIR's further shaded samples): with a rough target, each
+// pick j's f(y_j) w_sum / p_hat(y_j) is unbiased like the stream's own, and the mean of 3 picks has less variance than
+// one (with a target proportional to f every pick would give the same estimate, and a wrong pick no bias).
+TEST(Reservoir, SystematicPicksAreUnbiased) {
+  auto p_hat = [](float x) { return 1.1f - x; };  // a poor target: the pick matters
+  constexpr int kCandidates = 8, kPicks = 3;
+  // The estimate of pick j, or with j = kPicks their mean.
+  auto picked = [&](int j) {
+    return estimate(200000, [&](Rng& rng) {
+      float x[kCandidates], w[kCandidates];
+      Reservoir<float> r;
+      int chosen = -1;
+      for (int i = 0; i < kCandidates; ++i) {
+        x[i] = rng.next_float(), w[i] = p_hat(x[i]) / float(kCandidates);
+        if (r.update(x[i], w[i], p_hat(x[i]), rng.next_float())) chosen = i;
+      }
+      r.finalize();
+      int picks[kPicks];
+      systematic_picks(w, kCandidates, chosen, rng.next_float(), kPicks, picks);
+      auto value = [&](int k) { return double(f(x[picks[k]]) * r.w_sum / p_hat(x[picks[k]])); };
+      if (j < kPicks) return value(j);
+      double sum = 0.0;
+      for (int k = 0; k < kPicks; ++k) sum += value(k);
+      return sum / kPicks;
+    });
+  };
+  for (int j = 0; j <= kPicks; ++j) {
+    const MeanAndError e = picked(j);
+    EXPECT_NEAR(e.mean, integral_f(0, 1), 4.0 * e.error) << "pick " << j;
+  }
+  std::printf("standard error of one pick %.6f, of the mean of %d %.6f\n", picked(0).error, kPicks,
+              picked(kPicks).error);
+  EXPECT_LT(picked(kPicks).error, 0.8 * picked(0).error);
+}
+
+// Systematic picks are stratified: of n picks, a candidate with a fraction f of the weights gets floor(n f) or
+// ceil(n f) (up to rounding where n f is an integer), on random weights with zeros, and pick 0 is the kept one.
+TEST(Reservoir, SystematicPicksAreStratified) {
+  Rng rng(77, 3);
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int count = 1 + int(rng.next_u32() % 6), n = 2 + int(rng.next_u32() % 7);
+    float w[6], sum = 0.0f;
+    for (int k = 0; k < count; ++k) {
+      w[k] = rng.next_float() < 0.3f ? 0.0f : rng.next_float();
+      sum += w[k];
+    }
+    if (!(sum > 0.0f)) continue;
+    int chosen = 0;  // a candidate with weight, drawn in proportion to it
+    for (float u = rng.next_float() * sum, end = 0.0f; chosen < count; ++chosen)
+      if (end += w[chosen]; w[chosen] > 0.0f && u < end) break;
+    while (chosen == count || !(w[chosen] > 0.0f)) --chosen;
+    int picks[8], times[6] = {};
+    systematic_picks(w, count, chosen, rng.next_float(), n, picks);
+    ASSERT_EQ(picks[0], chosen);
+    for (int j = 0; j < n; ++j) ++times[picks[j]];
+    for (int k = 0; k < count; ++k) {
+      const double expected = double(n) * w[k] / sum;
+      EXPECT_GE(times[k], std::floor(expected - 1e-4)) << "trial " << trial << " candidate " << k;
+      EXPECT_LE(times[k], std::ceil(expected + 1e-4)) << "trial " << trial << " candidate " << k;
+    }
+  }
+}
+
 // Two domains (think: two pixels) with different supports: domain 1 integrates f on [0, 0.7), domain 2
 // on (0.3, 1]. Domain 1 combines its own reservoir with domain 2's.
 //  - "none", m_i = M_i / sum M = 1/2: samples in [0, 0.3) can only come from domain 1 and count half, so

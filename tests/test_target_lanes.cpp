@@ -434,21 +434,27 @@ TEST(TargetLanes, ShadowRaysGiveTheScalarBits) {
 // The whole chain on rendered frames: the reservoirs after 3 frames of candidates and reuse are the same
 // bits with the lanes (candidates, and the targets of temporal and spatial reuse) as with the scalar path,
 // on manylights, the Cornell box and city (whose lights and camera move: history placed by other lights), for ReSTIR DI
-// alone and with ReSTIR GI (whose reuse shares the code), with pairwise and basic MIS.
+// alone and with ReSTIR GI (whose reuse shares the code), with pairwise and basic MIS, and with 3 shaded samples
+// (the further samples' weights come from the lanes; the images hold their shading).
 TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
   struct Case {
     const char* scene;
     const char* method;
     const char* bias;
+    int shaded_samples = 1;
   };
   for (const Case& c : {Case{"manylights", "restir-di", "pairwise"}, Case{"cornell", "restir-di", "pairwise"},
                         Case{"city", "restir-di", "pairwise"}, Case{"manylights", "restir-di", "basic"},
-                        Case{"cornell", "restir", "pairwise"}}) {
+                        Case{"cornell", "restir", "pairwise"}, Case{"manylights", "restir", "pairwise", 3}}) {
     std::vector<DiReservoir> result[2], gi[2];
     Image image[2];
     for (int simd = 0; simd < 2; ++simd) {
-      RenderSettings settings =
-          testing::settings({{"width", 96}, {"height", 64}, {"method", c.method}, {"di_bias", c.bias}});
+      RenderSettings settings = testing::settings({{"width", 96},
+                                                   {"height", 64},
+                                                   {"method", c.method},
+                                                   {"di_bias", c.bias},
+                                                   {"di_shaded_samples", c.shaded_samples},
+                                                   {"gi_shaded_samples", c.shaded_samples}});
       settings.di.simd = settings.di_reuse.simd = settings.gi_reuse.simd = simd == 1;  // not a setting: the oracle
       Scene scene = make_builtin_scene(c.scene);
       const CameraDesc camera = scene.default_camera();

@@ -47,7 +47,7 @@ testing::Runs path_traced_runs(const Scene& scene, int w, int h, int depth, int 
 // frames, against 64 runs of 64 direct-light paths per pixel (path tracer, max depth 1). Unbiased:
 // basic and pairwise, without visibility anywhere and with visibility-tested candidates plus visibility in
 // the weights, pairwise with BSDF candidates drawn at probability 0.3 (counted as 0.3 of a candidate), and pairwise
-// with three shaded draws of the spatial pass (DiReuseParams::shaded_samples, each weighted 1/3). Known
+// with three shaded samples of each spatial combination (DiReuseParams::shaded_samples, each weighted 1/3). Known
 // biased, so the harness must reject them here: visibility-tested candidates with weights that ignore visibility, for
 // basic (the broken weight) and for none (1/M), and the default, which drops the samples shading found occluded from
 // the history (DiReuseParams::drop_occluded: the reservoirs reused next are then visibility-tested, as with visible
@@ -76,7 +76,7 @@ TEST(Unbiased, RestirDi) {
         Mode{"pairwise, BSDF candidates at probability 0.3", "pairwise", false, false, false, Expect::Unbiased, 0.3},
         Mode{"pairwise, as many light candidates with history", "pairwise", false, false, false, Expect::Unbiased, 1.0,
              DiParams{}.light_candidates},
-        Mode{"pairwise, three shaded draws", "pairwise", false, false, false, Expect::Unbiased, 1.0,
+        Mode{"pairwise, three shaded samples", "pairwise", false, false, false, Expect::Unbiased, 1.0,
              DiParams{}.history_light_candidates, 3},
         Mode{"basic, visible candidates", "basic", false, true, false, Expect::Biased},
         Mode{"none, visible candidates", "none", false, true, false, Expect::Biased},
