@@ -38,9 +38,10 @@ struct DiReuseParams {
                                      // unbiased, the choice ignores the samples); 4 chosen at equal time
                                      // (docs/restir.md, "Neighbour offsets")
   int spatial_passes = 1;
-  int shaded_samples = 1;        // samples the last spatial pass keeps of each pixel's combination (stratified over its
+  int shaded_samples = 2;        // samples the last spatial pass keeps of each pixel's combination (stratified over its
                                  // weights), each shaded with weight 1/n; the first becomes history. Unbiased (each is
-                                 // the one-sample estimator); with spatial reuse only
+                                 // the one-sample estimator); with spatial reuse only. 2 chosen at equal time for DI
+                                 // and GI (docs/restir.md, "Shaded samples at equal time")
   float depth_tolerance = 0.1f;  // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
   DiBiasCorrection bias = DiBiasCorrection::Pairwise;

@@ -66,7 +66,7 @@ TEST(Unbiased, RestirDi) {
     Expect expect;
     double bsdf_probability = 1.0;
     int history_candidates = DiParams{}.history_light_candidates;  // pixels with history draw this many
-    int shaded_samples = 1;
+    int shaded_samples = DiReuseParams{}.shaded_samples;
   };
   for (Mode mode :
        {Mode{"basic", "basic", false, false, false, Expect::Unbiased},
