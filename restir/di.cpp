@@ -22,10 +22,13 @@ DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
 }
 
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
-              const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, bool simd,
-              std::vector<DiVisibility>& visibility, Image& sum, RayCounter& rays, Counter& non_finite, float weight) {
+              const std::vector<std::vector<DiReservoir>>& further, const std::vector<vec3>* unsampled,
+              const DiVisibilityReuse& reuse, bool simd, std::vector<DiVisibility>& visibility, Image& sum,
+              RayCounter& rays, Counter& non_finite) {
   const bool reusing = reuse.max_age > 0 && reuse.history_pixel && reuse.previous &&
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
+  const int samples = 1 + int(further.size());
+  const float weight = 1.0f / float(samples);  // each sample's share of the pixel's estimate
   visibility.resize(
       g.size());  // every pixel's verdict is written below (in parallel, where a fill here ran on one thread)
   auto finish = [&](size_t i, const vec3& L) {
@@ -34,10 +37,11 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
     else
       non_finite.add(1);
   };
-  // Per tile row: the samples' unshadowed contributions at the exact receivers and their shadow rays, in lanes where
-  // the sample stores its point (with simd; else, and for punctual lights, di_contribution and di_shadow_ray one pixel
-  // at a time), then each pixel's estimate, whose shadow rays go out 16 at a time in pixel order (rtcOccluded16):
-  // neighbouring pixels' rays towards nearby lights share much of their traversal.
+  // Per tile row: the exact receivers (in lanes with simd), then for each sample in turn its unshadowed contribution
+  // and shadow ray, in lanes where the sample stores its point (with simd; else, and for punctual lights,
+  // di_contribution and di_shadow_ray one pixel at a time), and each pixel's estimate. The shadow rays go out 16 at a
+  // time in pixel order (rtcOccluded16), the row's first samples' before its further samples': neighbouring pixels'
+  // rays towards nearby lights share much of their traversal.
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     struct Lanes {
       ExactSurfaceLanes surfaces;
@@ -49,11 +53,12 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
     thread_local Lanes lanes;
     struct Pending {
       size_t pixel;
-      vec3 L, lit;  // the pixel's light without its sample, and what the sample adds if visible
+      vec3 L, lit;   // the pixel's light without the sample, and what the sample adds if visible
+      bool verdict;  // the pixel's first sample: its verdict is kept
     };
     auto answer = [&](const Pending& p, const RayPacket16& packet, int lane) {
       const bool visible = !Tracer::occluded_lane(packet, lane);
-      visibility[p.pixel].visible = visible;
+      if (p.verdict) visibility[p.pixel].visible = visible;
       finish(p.pixel, visible ? p.L + p.lit : p.L);
     };
     auto queue = ray_queue16<Pending>(view.tracer, RayQuery::Occluded, answer);
@@ -62,49 +67,61 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
       const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
       if (simd) {
         lanes.surfaces.set_row(g, first, slots);
+        build_exact_receivers(lanes.surfaces, view.camera.position(), slots, lanes.receivers);
+      }
+      for (int k = 0; k < samples; ++k) {
+        const std::vector<DiReservoir>& sampled = k == 0 ? reservoirs : further[size_t(k - 1)];
+        if (simd) {
+          for (int s = 0; s < slots; ++s) {
+            const size_t i = first + size_t(s);
+            const DiReservoir& r = sampled[i];
+            if (y + 1 < tile.y1) prefetch_object(sampled[i + size_t(g.width)]);  // the tile's next row
+            if (g.hit(i) && r.W > 0.0f && di_stored_point(view.lights, r.y))
+              lanes.samples.set(s, r.y.point);
+            else
+              lanes.samples.clear(s);
+          }
+          evaluate_exact_contribution_lanes(lanes.receivers, lanes.samples, slots, lanes.contributions);
+          shadow_ray_lanes(lanes.receivers, lanes.samples, view.tracer.offset_epsilon(), slots, lanes.rays);
+        }
         for (int s = 0; s < slots; ++s) {
           const size_t i = first + size_t(s);
-          const DiReservoir& r = reservoirs[i];
-          if (y + 1 < tile.y1) prefetch_object(reservoirs[i + size_t(g.width)]);  // the tile's next row
-          if (g.hit(i) && r.W > 0.0f && di_stored_point(view.lights, r.y))
-            lanes.samples.set(s, r.y.point);
-          else
-            lanes.samples.clear(s);
-        }
-        build_exact_receivers(lanes.surfaces, view.camera.position(), slots, lanes.receivers);
-        evaluate_exact_contribution_lanes(lanes.receivers, lanes.samples, slots, lanes.contributions);
-        shadow_ray_lanes(lanes.receivers, lanes.samples, view.tracer.offset_epsilon(), slots, lanes.rays);
-      }
-      for (int s = 0; s < slots; ++s) {
-        const size_t i = first + size_t(s);
-        vec3 L = unsampled ? g.emission[i] + (*unsampled)[i] : vec3(0.0f);
-        const DiReservoir& r = reservoirs[i];
-        DiVisibility& v = visibility[i];
-        v = DiVisibility{};
-        if (g.hit(i) && r.W > 0.0f) {
-          const bool in_lanes = simd && lanes.samples.active[s] > 0.0f;
-          const vec3 value =
-              in_lanes ? vec3(lanes.contributions.value[0][s], lanes.contributions.value[1][s],
-                              lanes.contributions.value[2][s])
-                       : di_contribution(di_exact_receiver(g, view.camera.position(), view.lights, i), r.y).value;
-          if (max_component(value) > 0.0f) {
-            // Field by field (visible and age stay the reset's): a whole DiVisibility assembled on the stack was
-            // copied in through an overlapping reload that stalled on store forwarding (15% of this stage's samples).
-            v.light = r.y.light, v.uv = r.y.uv, v.valid = true;
-            int32_t j = reusing ? (*reuse.history_pixel)[i] : -1;
-            const DiVisibility* old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
-            if (!(old && old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv)) {
-              queue.add(in_lanes ? lanes.rays.ray(s)
-                                 : di_shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], view.lights, r.y),
-                        {i, L, value * (r.W * weight)});
-              continue;
+          // The first sample adds the pixel's light without a sample too; the further ones add their term alone.
+          vec3 L = k == 0 && unsampled ? g.emission[i] + (*unsampled)[i] : vec3(0.0f);
+          const DiReservoir& r = sampled[i];
+          DiVisibility& v = visibility[i];
+          if (k == 0) v = DiVisibility{};
+          if (g.hit(i) && r.W > 0.0f) {
+            const bool in_lanes = simd && lanes.samples.active[s] > 0.0f;
+            const vec3 value =
+                in_lanes ? vec3(lanes.contributions.value[0][s], lanes.contributions.value[1][s],
+                                lanes.contributions.value[2][s])
+                         : di_contribution(di_exact_receiver(g, view.camera.position(), view.lights, i), r.y).value;
+            if (max_component(value) > 0.0f) {
+              // The first sample's verdict, reused from last frame where it may be (k == 0 only). Field by field
+              // (visible and age stay the reset's): a whole DiVisibility assembled on the stack was copied in through
+              // an overlapping reload that stalled on store forwarding (15% of this stage's samples).
+              const DiVisibility* old = nullptr;
+              if (k == 0) {
+                v.light = r.y.light, v.uv = r.y.uv, v.valid = true;
+                const int32_t j = reusing ? (*reuse.history_pixel)[i] : -1;
+                old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
+                if (old && !(old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv))
+                  old = nullptr;
+              }
+              if (!old) {
+                queue.add(in_lanes ? lanes.rays.ray(s)
+                                   : di_shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], view.lights, r.y),
+                          {i, L, value * (r.W * weight), k == 0});
+                continue;
+              }
+              v.visible = old->visible;
+              v.age = uint8_t(old->age + 1);
+              if (v.visible) L += value * (r.W * weight);
             }
-            v.visible = old->visible;
-            v.age = uint8_t(old->age + 1);
-            if (v.visible) L += value * (r.W * weight);
           }
+          if (k == 0) finish(i, L);
         }
-        finish(i, L);
       }
     }
     queue.finish();

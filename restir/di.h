@@ -188,13 +188,13 @@ struct DiVisibilityReuse {
 // f L_e G W of each pixel's sample, with the exact surface, into `sum`, plus, with `unsampled`, the
 // emission seen and the unsampled light (ReSTIR GI passes none: emission seen is direct light); writes
 // each pixel's verdict to `visibility`; a pixel whose estimate is not finite adds nothing and is counted
-// in `non_finite`. One shadow ray per pixel with a sample (in packets of 16), except where a verdict is
-// reused. With `simd`, the exact receivers and contributions are evaluated in lanes (target_lanes.h; the
-// scalar path, the reference, gives the same bits). The sample's term counts `weight` times (1/n for each of n
-// samples shaded, DiReuseParams::shaded_samples).
+// in `non_finite`. With `further` samples (DiReuseParams::shaded_samples) each of the n samples' terms counts 1/n,
+// and the further ones' verdicts are not kept. One shadow ray per pixel and sample (in packets of 16), except where
+// the first sample's verdict is reused. With `simd`, the exact receivers (built once per pixel for all its samples)
+// and contributions are evaluated in lanes (target_lanes.h; the scalar path, the reference, gives the same bits).
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
-              const std::vector<vec3>* unsampled, const DiVisibilityReuse& reuse, bool simd,
-              std::vector<DiVisibility>& visibility, Image& sum, RayCounter& rays, Counter& non_finite,
-              float weight = 1.0f);
+              const std::vector<std::vector<DiReservoir>>& further, const std::vector<vec3>* unsampled,
+              const DiVisibilityReuse& reuse, bool simd, std::vector<DiVisibility>& visibility, Image& sum,
+              RayCounter& rays, Counter& non_finite);
 
 }  // namespace candela

@@ -67,7 +67,8 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
   // The last spatial pass keeps shaded_samples samples of each combination (di_spatial_reuse's further samples):
   // each is the combination's estimator, so their mean is unbiased and averages out part of what one sample's shadow
   // ray leaves.
-  const int samples = reuse.spatial ? std::clamp(reuse.shaded_samples, 1, kMaxShadedSamples) : 1;
+  const int samples =
+      reuse.spatial && reuse.spatial_passes > 0 ? std::clamp(reuse.shaded_samples, 1, kMaxShadedSamples) : 1;
   chain.further.resize(size_t(samples - 1));
   for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
     StageTimer timer(stats, prefix + "_spatial");
@@ -80,14 +81,8 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
     std::swap(chain.visibility, chain.prev_visibility);
     DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr,
                                  &chain.prev_visibility};
-    const float weight = 1.0f / float(samples);
-    di_shade(view, g, *result, unsampled, visibility, reuse.simd, chain.visibility, sum, timer.rays(),
-             timer.non_finite(), weight);
-    // The further samples add their term alone (no emission or unsampled light: the first sample added them), with
-    // verdicts of their own that no later frame reads.
-    for (const std::vector<DiReservoir>& further : chain.further)
-      di_shade(view, g, further, nullptr, DiVisibilityReuse{}, reuse.simd, chain.further_visibility, sum, timer.rays(),
-               timer.non_finite(), weight);
+    di_shade(view, g, *result, chain.further, unsampled, visibility, reuse.simd, chain.visibility, sum, timer.rays(),
+             timer.non_finite());
     if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);
   }
   std::swap(chain.history, *result);

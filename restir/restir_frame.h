@@ -26,7 +26,6 @@ struct ReservoirChain {
   std::vector<DiVisibility> visibility, prev_visibility;
   // The last spatial pass's further samples (DiReuseParams::shaded_samples), shaded and then forgotten.
   std::vector<std::vector<DiReservoir>> further;
-  std::vector<DiVisibility> further_visibility;
 };
 
 struct RestirSettings {
