@@ -330,8 +330,11 @@ void select_further(const SceneView& view, const ReuseRow& row, int s, int count
   if (sampled) systematic_picks(resampled.w, count, resampled.chosen, v, n, picks);
   for (int j = 1; j < n; ++j) {
     DiReservoir& out = (*further.out)[size_t(j - 1)][i];
-    out = r;
-    if (!sampled) continue;
+    if (!sampled) {
+      out = r;
+      continue;
+    }
+    out.w_sum = r.w_sum, out.M = r.M;  // the sample's fields are written once, below
     const int k = picks[j];
     place_for_combiner(view, row.inputs[k][s], &row.inputs[0][s].domain->lights, out.y);
     out.p_hat_y = resampled.p_hat[k];
