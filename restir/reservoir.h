@@ -53,7 +53,7 @@ struct Reservoir {
 // sum / n, wrapping around. As the stream kept `chosen` with probability w_chosen / sum and v is uniform in [0, 1),
 // point 0 is uniform in [0, sum), and so is every point: each pick is kept with probability w_k / sum, as the stream
 // keeps its one, while together the picks are stratified over the weights (a candidate with a fraction f of the sum is
-// picked floor(n f) or ceil(n f) times). picks[0] is `chosen`. Cost: two passes over the weights per pick.
+// picked floor(n f) or ceil(n f) times). picks[0] is `chosen`. Cost: a pass over the weights, and one per pick.
 inline void systematic_picks(const float* w, int count, int chosen, float v, int n, int* picks) {
   float start = 0.0f, sum = 0.0f;  // the kept candidate's interval starts at `start`
   for (int k = 0; k < count; ++k) {

@@ -86,7 +86,7 @@ TEST(Reservoir, MergeIsUnbiased) {
   EXPECT_NEAR(e.mean, integral_f(0, 1), 4.0 * e.error);
 }
 
-// Systematic picks after streaming RIS (systematic_picks; ReSTIR's further shaded samples): with a rough target, each
+// Systematic picks after streaming RIS (systematic_picks; ReSTIR's further shaded samples): with a poor target, each
 // pick j's f(y_j) w_sum / p_hat(y_j) is unbiased like the stream's own, and the mean of 3 picks has less variance than
 // one (with a target proportional to f every pick would give the same estimate, and a wrong pick no bias).
 TEST(Reservoir, SystematicPicksAreUnbiased) {

@@ -44,7 +44,8 @@ testing::Runs path_traced_runs(const Scene& scene, int w, int h, int depth, int 
 }
 
 // ReSTIR DI with temporal and spatial reuse on still manylights (256 lights), 48x27, 192 runs of 6
-// frames, against 64 runs of 64 direct-light paths per pixel (path tracer, max depth 1). Unbiased:
+// frames, against 64 runs of 64 direct-light paths per pixel (path tracer, max depth 1), each mode with the default
+// two shaded samples (DiReuseParams::shaded_samples) unless it says otherwise. Unbiased:
 // basic and pairwise, without visibility anywhere and with visibility-tested candidates plus visibility in
 // the weights, pairwise with BSDF candidates drawn at probability 0.3 (counted as 0.3 of a candidate), and pairwise
 // with three shaded samples of each spatial combination (DiReuseParams::shaded_samples, each weighted 1/3). Known
