@@ -108,8 +108,8 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
   rows.push_back(number_row(key("shaded_samples"), group, SettingType::Int, 1, kMaxShadedSamples,
                             field(&DiReuseParams::shaded_samples),
                             "Samples the last spatial pass keeps of each pixel's combination (stratified over its "
-                            "weights), each shaded with its own shadow ray and weighted 1/n (the first becomes "
-                            "history; needs spatial reuse)",
+                            "weights), each weighted 1/n and shaded with its own shadow ray, once for repeats of one "
+                            "sample (the first becomes history; needs spatial reuse)",
                             methods));
   rows.push_back(number_row(key("disocclusion_neighbours"), group, SettingType::Int, 0, 31,
                             field(&DiReuseParams::disocclusion_neighbours),

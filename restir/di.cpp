@@ -21,6 +21,13 @@ DiContribution di_contribution(const DiReceiver& r, const DiSample& s) {
   return c;
 }
 
+// Whether two reservoirs shade alike: the same sample (light, uv and stored point) with the same W.
+static bool shade_alike(const DiReservoir& a, const DiReservoir& b) {
+  const LightPoint &p = a.y.point, &q = b.y.point;
+  return a.W == b.W && a.y.light == b.y.light && a.y.uv == b.y.uv && p.position == q.position && p.normal == q.normal &&
+         p.radiance == q.radiance && p.two_sided == q.two_sided;
+}
+
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
               const std::vector<std::vector<DiReservoir>>& further, const std::vector<vec3>* unsampled,
               const DiVisibilityReuse& reuse, bool simd, std::vector<DiVisibility>& visibility, Image& sum,
@@ -29,6 +36,19 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
   const int samples = 1 + int(further.size());
   const float weight = 1.0f / float(samples);  // each sample's share of the pixel's estimate
+  auto sampled = [&](int k) -> const std::vector<DiReservoir>& { return k == 0 ? reservoirs : further[size_t(k - 1)]; };
+  // Pixel i's sample k is shaded once for all of its samples that shade alike (a pixel without reuse repeats its
+  // reservoir in every further plane; two picks of one combination may land on the same input): the number of samples
+  // k..n-1 alike, k's own included, or 0 where an earlier sample stands for it (or it has no surface or no weight).
+  auto copies = [&](size_t i, int k) {
+    const DiReservoir& r = sampled(k)[i];
+    if (!g.hit(i) || !(r.W > 0.0f)) return 0;
+    for (int j = 0; j < k; ++j)
+      if (shade_alike(sampled(j)[i], r)) return 0;
+    int n = 1;
+    for (int j = k + 1; j < samples; ++j) n += int(shade_alike(sampled(j)[i], r));
+    return n;
+  };
   visibility.resize(
       g.size());  // every pixel's verdict is written below (in parallel, where a fill here ran on one thread)
   auto finish = [&](size_t i, const vec3& L) {
@@ -70,13 +90,17 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         build_exact_receivers(lanes.surfaces, view.camera.position(), slots, lanes.receivers);
       }
       for (int k = 0; k < samples; ++k) {
-        const std::vector<DiReservoir>& sampled = k == 0 ? reservoirs : further[size_t(k - 1)];
+        const std::vector<DiReservoir>& sample = sampled(k);
+        int alike[kTileWidth];
+        for (int s = 0; s < slots; ++s) {
+          const size_t i = first + size_t(s);
+          if (y + 1 < tile.y1) prefetch_object(sample[i + size_t(g.width)]);  // the tile's next row
+          alike[s] = copies(i, k);
+        }
         if (simd) {
           for (int s = 0; s < slots; ++s) {
-            const size_t i = first + size_t(s);
-            const DiReservoir& r = sampled[i];
-            if (y + 1 < tile.y1) prefetch_object(sampled[i + size_t(g.width)]);  // the tile's next row
-            if (g.hit(i) && r.W > 0.0f && di_stored_point(view.lights, r.y))
+            const DiReservoir& r = sample[first + size_t(s)];
+            if (alike[s] > 0 && di_stored_point(view.lights, r.y))
               lanes.samples.set(s, r.y.point);
             else
               lanes.samples.clear(s);
@@ -88,10 +112,11 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
           const size_t i = first + size_t(s);
           // The first sample adds the pixel's light without a sample too; the further ones add their term alone.
           vec3 L = k == 0 && unsampled ? g.emission[i] + (*unsampled)[i] : vec3(0.0f);
-          const DiReservoir& r = sampled[i];
+          const DiReservoir& r = sample[i];
           DiVisibility& v = visibility[i];
           if (k == 0) v = DiVisibility{};
-          if (g.hit(i) && r.W > 0.0f) {
+          if (alike[s] > 0) {
+            const float share = float(alike[s]) * weight;  // weight itself where the sample is alone (same bits)
             const bool in_lanes = simd && lanes.samples.active[s] > 0.0f;
             const vec3 value =
                 in_lanes ? vec3(lanes.contributions.value[0][s], lanes.contributions.value[1][s],
@@ -112,12 +137,12 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
               if (!old) {
                 queue.add(in_lanes ? lanes.rays.ray(s)
                                    : di_shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], view.lights, r.y),
-                          {i, L, value * (r.W * weight), k == 0});
+                          {i, L, value * (r.W * share), k == 0});
                 continue;
               }
               v.visible = old->visible;
               v.age = uint8_t(old->age + 1);
-              if (v.visible) L += value * (r.W * weight);
+              if (v.visible) L += value * (r.W * share);
             }
           }
           if (k == 0) finish(i, L);

@@ -189,9 +189,11 @@ struct DiVisibilityReuse {
 // emission seen and the unsampled light (ReSTIR GI passes none: emission seen is direct light); writes
 // each pixel's verdict to `visibility`; a pixel whose estimate is not finite adds nothing and is counted
 // in `non_finite`. With `further` samples (DiReuseParams::shaded_samples) each of the n samples' terms counts 1/n,
-// and the further ones' verdicts are not kept. One shadow ray per pixel and sample (in packets of 16), except where
-// the first sample's verdict is reused. With `simd`, the exact receivers (built once per pixel for all its samples)
-// and contributions are evaluated in lanes (target_lanes.h; the scalar path, the reference, gives the same bits).
+// and the further ones' verdicts are not kept; samples of a pixel that shade alike (same sample and W: the copies of
+// a pixel without reuse, or picks of one input) are shaded once with their shares summed. One shadow ray per pixel and
+// distinct sample (in packets of 16), except where the first sample's verdict is reused. With `simd`, the exact
+// receivers (built once per pixel for all its samples) and contributions are evaluated in lanes (target_lanes.h; the
+// scalar path, the reference, gives the same bits).
 void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReservoir>& reservoirs,
               const std::vector<std::vector<DiReservoir>>& further, const std::vector<vec3>* unsampled,
               const DiVisibilityReuse& reuse, bool simd, std::vector<DiVisibility>& visibility, Image& sum,

@@ -6,8 +6,8 @@
 // the weights use it) is zero at the sample. A combination whose weights sum to more or less than one
 // brightens or darkens the image by that factor, which is how every unbiasedness bug of reuse shows.
 //
-// RestirDiReuse: ReSTIR DI reuse beyond the core stages: the disocclusion boost, the boiling filter and final
-// visibility reuse (moving lights: Unbiased.MovingLights).
+// RestirDiReuse: ReSTIR DI reuse beyond the core stages: the disocclusion boost, the boiling filter, final
+// visibility reuse (moving lights: Unbiased.MovingLights) and the shading of repeated shaded samples.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -276,6 +276,44 @@ TEST(RestirDiReuse, VisibilityReuseSavesShadowRays) {
   EXPECT_LT(double(reused), 0.9 * double(traced));
   EXPECT_NEAR(image_mean(some) / image_mean(all), 1.0, 0.01);
   EXPECT_LT(rel_mse, 0.01);
+}
+
+// ReSTIR GI with every pixel kept out of reuse (all smoother than a minimum roughness of 2): each further plane holds
+// a copy of the pixel's reservoir, so 2 or 3 shaded samples shade alike and must cost the rays of one, and give its
+// image bit for bit (the shares of the copies sum to exactly one sample's weight). Shading each copy would trace
+// 2x or 3x the rays.
+TEST(RestirDiReuse, SamplesThatShadeAlikeAreShadedOnce) {
+  const Scene scene = make_manylights_scene(256, 7);
+  auto run = [&](int samples, uint64_t& shade_rays) {
+    RenderSettings s = testing::settings({{"width", 64},
+                                          {"height", 36},
+                                          {"method", "restir"},
+                                          {"max_depth", 3},
+                                          {"accumulate", false},
+                                          {"di_shaded_samples", 1},
+                                          {"gi_shaded_samples", samples}});
+    s.gi_reuse.min_roughness = 2.0f;  // beyond the option's range: no surface is rough enough for reuse
+    Renderer renderer(scene, s);
+    shade_rays = 0;
+    for (int frame = 0; frame < 3; ++frame) {
+      FrameStats stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
+      for (const StageStats& st : stats.stages)
+        if (st.name == "gi_shade") shade_rays += st.rays;
+    }
+    return renderer.image();
+  };
+  uint64_t one_rays = 0;
+  const Image one = run(1, one_rays);
+  ASSERT_GT(one_rays, 1000u);
+  for (int samples : {2, 3}) {
+    uint64_t rays = 0;
+    const Image image = run(samples, rays);
+    EXPECT_EQ(rays, one_rays) << samples << " samples";
+    ASSERT_EQ(image.pixels.size(), one.pixels.size());
+    size_t differing = 0;
+    for (size_t i = 0; i < one.pixels.size(); ++i) differing += image.pixels[i] != one.pixels[i];
+    EXPECT_EQ(differing, 0u) << samples << " samples";
+  }
 }
 
 }  // namespace
