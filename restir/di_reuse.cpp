@@ -320,7 +320,7 @@ struct FurtherSamples {
 // The further samples of slot s's combination `r` (whose weights are `resampled`) into further.out at pixel i, by
 // systematic resampling (systematic_picks, reservoir.h): each is kept as the combination keeps its one and gets its
 // contribution weight w_sum / p_0(y), so every reservoir is the combination's estimator, and the samples are
-// stratified over the weights.
+// stratified over the weights. A slot that kept no sample (nothing combined, or no weight) copies `r` into each.
 void select_further(const SceneView& view, const ReuseRow& row, int s, int count, const Resampled& resampled,
                     const DiReservoir& r, float v, size_t i, const FurtherSamples& further) {
   const int n = int(further.out->size()) + 1;
@@ -366,10 +366,8 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
     DiReservoir& r = out[i];
     if (row.count[s] == 0) {
       r = in[i];
-      for (int j = 0; further && j < int(further->out->size()); ++j) (*further->out)[size_t(j)][i] = r;
-      continue;
-    }
-    if (!in_lanes[s]) {
+      resampled.chosen = -1;  // nothing combined: select_further copies the reservoir
+    } else if (!in_lanes[s]) {
       for (int k = 0; k < row.count[s]; ++k) inputs[k] = row.inputs[k][s];
       const SlotTargets targets{row, s};
       Rng rng = streams.stream(s);
@@ -581,7 +579,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   const int blocks_x = (width + block - 1) / block;
   auto block_start = [&](int x, int y) {
     const uint64_t b = uint64_t(y / block) * uint64_t(blocks_x) + uint64_t(x / block);
-    return Rng::for_key(params.seed, b, uint64_t(frame), 0xd5 + uint64_t(pass)).next_u32();
+    return Rng::for_key(params.seed, b, uint64_t(frame), spatial_stream(kBlockStarts, pass)).next_u32();
   };
   // shared_start: the pixel's block's start (block > 1); streams: the row's, the pixel's in slot s.
   auto draw = [&](size_t i, int x, int y, uint32_t shared_start, ReuseStreams& streams, int s, Drawn& d) {
@@ -654,14 +652,15 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         const int x = tile.x0 + s;
         batch.start[s] = s > 0 && x % block != 0 ? batch.start[s - 1] : block_start(x, y);
       }
-      batch.streams.key(slots, params.seed, first, uint64_t(frame), 0xd3 + uint64_t(pass));  // Rng::for_key
+      batch.streams.key(slots, params.seed, first, uint64_t(frame),
+                        spatial_stream(kPixelStreams, pass));  // Rng::for_key
       for (int s = 0; s < slots; ++s)
         draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.streams, s, batch.drawn[s]);
       if (params.simd) test_similar(first, slots, batch.drawn, batch.neighbours);
       for (int s = 0; s < slots; ++s)
         select(first + size_t(s), batch.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row);
       if (further) {
-        batch.further_streams.key(slots, params.seed, first, uint64_t(frame), 0xe1 + uint64_t(pass));
+        batch.further_streams.key(slots, params.seed, first, uint64_t(frame), spatial_stream(kFurtherPoints, pass));
         batch.further_streams.fill(1, slots, batch.v);
       }
       const FurtherSamples more{further, batch.v};

@@ -114,6 +114,13 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
                        const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
                        std::vector<int32_t>& history_pixel, RayCounter& rays);
 
+// The random streams of spatial pass `pass` (Rng::for_key's last key): the pixels' (kPixelStreams), the neighbour
+// blocks' starts (kBlockStarts) and the further samples' points (kFurtherPoints). Pass 0 keeps the names and each later
+// pass adds 256, so no two (name, pass) pairs of the 8 passes share a stream (name + pass gave pass 2's pixels the
+// streams of pass 0's block starts).
+enum SpatialStream : uint64_t { kPixelStreams = 0xd3, kBlockStarts = 0xd5, kFurtherPoints = 0xe1 };
+constexpr uint64_t spatial_stream(SpatialStream name, int pass) { return uint64_t(name) + (uint64_t(pass) << 8); }
+
 // Stage "di_spatial": reads the surfaces and `in`, writes `out` combining each pixel with up to k
 // similar neighbours within the radius, one tile row at a time as temporal reuse does (2 target
 // evaluations per neighbour, in lanes). No rays, except with mis_visibility. `pass` selects its own random

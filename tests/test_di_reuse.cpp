@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <set>
 
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
@@ -276,6 +277,15 @@ TEST(RestirDiReuse, VisibilityReuseSavesShadowRays) {
   EXPECT_LT(double(reused), 0.9 * double(traced));
   EXPECT_NEAR(image_mean(some) / image_mean(all), 1.0, 0.01);
   EXPECT_LT(rel_mse, 0.01);
+}
+
+// Every spatial pass (up to the option's 8) draws from streams no other pass or name uses, nor the candidates' (0xd1)
+// and temporal reuse's (0xd2), ReSTIR GI's first rays' (0x61) or the light tiles' (0x7e).
+TEST(RestirDiReuse, SpatialPassesHaveStreamsOfTheirOwn) {
+  std::set<uint64_t> streams{0xd1, 0xd2, 0x61, 0x7e};
+  for (int pass = 0; pass < 8; ++pass)
+    for (SpatialStream name : {kPixelStreams, kBlockStarts, kFurtherPoints})
+      EXPECT_TRUE(streams.insert(spatial_stream(name, pass)).second) << "pass " << pass << ", name " << name;
 }
 
 // ReSTIR GI with every pixel kept out of reuse (all smoother than a minimum roughness of 2): each further plane holds
