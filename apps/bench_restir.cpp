@@ -4,11 +4,12 @@
 // packets through pixel centres), its BSDF-candidate rays and its shadow rays (single rays), generated
 // before the clock starts. Then the whole ReSTIR frame, DI + GI (`--method restir`, paths up to 8 bounces),
 // with its stages. For both methods, a frame's own queries recorded (engine/ray_log.h) and replayed alone:
-// every packet and single ray as the frame traced it. The ratios frame / rays are what the stages between
-// the rays cost.
+// every packet and single ray as the frame traced it, the whole frame's and each stage's alone. The ratios
+// frame / rays are what the stages between the rays cost.
 #include <benchmark/benchmark.h>
 
 #include <functional>
+#include <chrono>
 #include <map>
 #include <memory>
 
@@ -80,6 +81,26 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
+// Each stage's recorded rays replayed alone (median of 5 replays) beside the stage's median time: how much of the
+// stage is its rays. Cost: 5 replays of the frame's rays.
+void print_stage_replays(const RestirBenchScene& s) {
+  std::printf("%-30s rays of each stage replayed alone / the stage, ms:", "");
+  for (int k = 0; k < int(s.log.stages().size()); ++k) {
+    if (s.log.rays(k) == 0) continue;
+    std::vector<double> times;
+    for (int rep = 0; rep < 5; ++rep) {
+      const auto start = std::chrono::steady_clock::now();
+      s.log.replay(s.renderer->tracer(), k);
+      times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+    const std::string& name = s.log.stages()[size_t(k)];
+    const auto stage = s.stage_ms.find(name);
+    std::printf(" %s %.1f / %.1f", name.empty() ? "(no stage)" : name.c_str(), median(times),
+                stage == s.stage_ms.end() ? 0.0 : median(stage->second));
+  }
+  std::printf("\n");
+}
+
 // A renderer of `source` with `method` at the bench's size, after 8 warm-up frames of a still camera.
 std::unique_ptr<RestirBenchScene> warm_scene(const std::string& source, Method method, const BenchOptions& o) {
   auto s = std::make_unique<RestirBenchScene>();
@@ -141,6 +162,7 @@ int run_restir_bench(const BenchOptions& o) {
     }
     for (const auto& [stage, ms] : s->stage_ms) std::printf(" %s %.1f", stage.c_str(), median(ms));
     std::printf("\n");
+    print_stage_replays(*s);
   }
   return 0;
 }

@@ -110,6 +110,7 @@ FrameStats Renderer::render_frame(int frame_index, float time, const CameraDesc&
                                   const std::function<void(int, int)>& progress) {
   FrameStats stats;
   stats.frame = frame_index;
+  stats.ray_log = tracer_->ray_log();  // the stages tag the queries they record
   auto start = std::chrono::steady_clock::now();
   update_scene(time, camera, stats);
   if (accumulated_spp_ == 0) sample_epoch_ = uint64_t(frame_index);  // a new run of samples, new scrambles

@@ -1,5 +1,7 @@
 #include "engine/frame_stats.h"
 
+#include "engine/ray_log.h"
+
 namespace candela {
 
 uint64_t FrameStats::rays() const {
@@ -33,9 +35,12 @@ void FrameStats::add(const std::string& name, double ms, uint64_t rays, uint64_t
 }
 
 StageTimer::StageTimer(FrameStats& stats, std::string name)
-    : stats_(stats), name_(std::move(name)), start_(std::chrono::steady_clock::now()) {}
+    : stats_(stats), name_(std::move(name)), start_(std::chrono::steady_clock::now()) {
+  if (stats_.ray_log) stats_.ray_log->begin_stage(name_);
+}
 
 StageTimer::~StageTimer() {
+  if (stats_.ray_log) stats_.ray_log->end_stage();
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
   stats_.add(name_, ms, rays_.count.load(), non_finite_.count.load());
 }

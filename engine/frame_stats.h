@@ -17,7 +17,10 @@ struct StageStats {
   uint64_t non_finite = 0;  // NaN or infinite samples (or pixels) the stage dropped instead of adding
 };
 
+class RayLog;
+
 struct FrameStats {
+  RayLog* ray_log = nullptr;  // where the frame's ray queries are recorded (engine/ray_log.h): its StageTimers tag them
   int frame = 0;
   int spp = 0;  // samples per pixel the frame's estimator took
   double total_ms = 0.0;

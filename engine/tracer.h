@@ -109,6 +109,7 @@ class Tracer {
   // With a log, every query is recorded into it before it is traced (the benchmark's replay of a frame's rays,
   // engine/ray_log.h); null: none (the default). Not to be changed while queries run.
   void set_ray_log(RayLog* log) { log_ = log; }
+  RayLog* ray_log() const { return log_; }
 
  private:
   // Moves p off its surface along ng, on the side `towards` points to; the offset grows with the

@@ -3,6 +3,8 @@
 // holds the rays it counts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cstring>
 
 #include "apps/renderer.h"
@@ -93,10 +95,20 @@ TEST(Renderer, RayLogRecordsTheFramesCountedRays) {
     renderer.render_frame(0, 0.0f, camera);
     RayLog log;
     renderer.set_ray_log(&log);
-    const uint64_t counted = renderer.render_frame(1, 0.0f, camera).rays();
+    const FrameStats stats = renderer.render_frame(1, 0.0f, camera);
+    const uint64_t counted = stats.rays();
     renderer.set_ray_log(nullptr);
     EXPECT_GT(counted, uint64_t(48 * 32)) << method;
     EXPECT_EQ(log.rays(), counted) << method;
+    // Each stage's queries are tagged with it: its recorded rays are the rays it counted, and replay alone.
+    for (const StageStats& stage : stats.stages) {
+      const auto k = std::find(log.stages().begin(), log.stages().end(), stage.name) - log.stages().begin();
+      if (stage.rays == 0 && k == std::ssize(log.stages())) continue;
+      ASSERT_LT(k, std::ssize(log.stages())) << method << ": " << stage.name;
+      EXPECT_EQ(log.rays(int(k)), stage.rays) << method << ": " << stage.name;
+      EXPECT_EQ(log.replay(renderer.tracer(), int(k)), stage.rays) << method << ": " << stage.name;
+    }
+    EXPECT_EQ(log.rays(0), 0u) << method << ": no query outside the stages";
     EXPECT_EQ(log.replay(renderer.tracer()), counted) << method;
     EXPECT_EQ(log.rays(), counted) << method << ": the replay recorded nothing more";
   }
