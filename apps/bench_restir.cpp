@@ -8,8 +8,8 @@
 // frame / rays are what the stages between the rays cost.
 #include <benchmark/benchmark.h>
 
-#include <functional>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <memory>
 
