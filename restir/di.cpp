@@ -1,6 +1,8 @@
 #include "restir/di.h"
 
+#include "engine/check.h"
 #include "engine/prefetch.h"
+#include "restir/di_reuse.h"
 #include "restir/receiver_lanes.h"
 
 namespace candela {
@@ -35,19 +37,21 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
   const bool reusing = reuse.max_age > 0 && reuse.history_pixel && reuse.previous &&
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
   const int samples = 1 + int(further.size());
+  CHECK(samples <= kMaxShadedSamples);
   const float weight = 1.0f / float(samples);  // each sample's share of the pixel's estimate
   auto sampled = [&](int k) -> const std::vector<DiReservoir>& { return k == 0 ? reservoirs : further[size_t(k - 1)]; };
-  // Pixel i's sample k is shaded once for all of its samples that shade alike (a pixel without reuse repeats its
-  // reservoir in every further plane; two picks of one combination may land on the same input): the number of samples
-  // k..n-1 alike, k's own included, or 0 where an earlier sample stands for it (or it has no surface or no weight).
-  auto copies = [&](size_t i, int k) {
-    const DiReservoir& r = sampled(k)[i];
-    if (!g.hit(i) || !(r.W > 0.0f)) return 0;
-    for (int j = 0; j < k; ++j)
-      if (shade_alike(sampled(j)[i], r)) return 0;
-    int n = 1;
-    for (int j = k + 1; j < samples; ++j) n += int(shade_alike(sampled(j)[i], r));
-    return n;
+  // Pixel i's samples that shade alike (a pixel without reuse repeats its reservoir in every further plane; two picks
+  // of one combination may land on the same input) are shaded once, by the first of them: alike[k] gets the number of
+  // the pixel's samples alike to sample k where k is the first of them, else 0 (also without a surface or weight).
+  // Each sample is compared with the earlier ones that stand for their kind: one comparison for 2 samples.
+  auto count_alike = [&](size_t i, int* alike, size_t stride) {
+    for (int k = 0; k < samples; ++k) {
+      const DiReservoir& r = sampled(k)[i];
+      int& here = alike[size_t(k) * stride];
+      here = g.hit(i) && r.W > 0.0f ? 1 : 0;
+      for (int j = 0; here > 0 && j < k; ++j)
+        if (alike[size_t(j) * stride] > 0 && shade_alike(sampled(j)[i], r)) ++alike[size_t(j) * stride], here = 0;
+    }
   };
   visibility.resize(
       g.size());  // every pixel's verdict is written below (in parallel, where a fill here ran on one thread)
@@ -89,14 +93,16 @@ void di_shade(const SceneView& view, const GBuffer& g, const std::vector<DiReser
         lanes.surfaces.set_row(g, first, slots);
         build_exact_receivers(lanes.surfaces, view.camera.position(), slots, lanes.receivers);
       }
+      int alike_row[kMaxShadedSamples][kTileWidth];  // count_alike's, per sample and slot
+      for (int s = 0; s < slots; ++s) {
+        const size_t i = first + size_t(s);
+        for (int k = 0; y + 1 < tile.y1 && k < samples; ++k)
+          prefetch_object(sampled(k)[i + size_t(g.width)]);  // the tile's next row
+        count_alike(i, &alike_row[0][s], kTileWidth);
+      }
       for (int k = 0; k < samples; ++k) {
         const std::vector<DiReservoir>& sample = sampled(k);
-        int alike[kTileWidth];
-        for (int s = 0; s < slots; ++s) {
-          const size_t i = first + size_t(s);
-          if (y + 1 < tile.y1) prefetch_object(sample[i + size_t(g.width)]);  // the tile's next row
-          alike[s] = copies(i, k);
-        }
+        const int* alike = alike_row[k];
         if (simd) {
           for (int s = 0; s < slots; ++s) {
             const DiReservoir& r = sample[first + size_t(s)];
