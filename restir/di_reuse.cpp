@@ -442,6 +442,13 @@ void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& 
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
       int32_t* found = history_pixel.data() + first;
+      // The tile's next row's surfaces prefetched, and last frame's under them (where a still or slowly moving
+      // camera finds their history): their first touch in this loop was most of its time.
+      for (int s = 0; y + 1 < tile.y1 && s < slots; s += int(64 / sizeof(PackedSurface))) {
+        const size_t next = first + size_t(g.width) + size_t(s);
+        prefetch_object(current.surfaces[next]);
+        prefetch_object(previous.surfaces[next]);
+      }
       for (int s = 0; s < slots; ++s)
         found[s] = int32_t(reprojected_pixel(g, current, params, frame, first + size_t(s), tile.x0 + s, y));
       if (params.simd) {
@@ -507,6 +514,16 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(g.width) + size_t(tile.x0);
       batch.streams.key(slots, params.seed, first, uint64_t(frame), 0xd2);  // Rng::for_key(seed, pixel, frame, 0xd2)
+      // The tile's next row's reservoirs, history and last frame's surfaces prefetched: their first touch, in the
+      // copies below, was most of this loop's time.
+      for (int s = 0; y + 1 < tile.y1 && s < slots; ++s) {
+        const size_t next = first + size_t(g.width) + size_t(s);
+        prefetch_object(reservoirs[next]);
+        if (const int32_t j = history_pixel[next]; j >= 0) {
+          prefetch_object(history[size_t(j)]);
+          prefetch_object(previous.surfaces[size_t(j)]);
+        }
+      }
       for (int s = 0; s < slots; ++s) {
         const size_t i = first + size_t(s);
         batch.row.count[s] = 0;
