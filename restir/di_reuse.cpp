@@ -444,7 +444,7 @@ void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& 
       int32_t* found = history_pixel.data() + first;
       // The tile's next row's surfaces prefetched, and last frame's under them (where a still or slowly moving
       // camera finds their history): their first touch in this loop was most of its time.
-      for (int s = 0; y + 1 < tile.y1 && s < slots; s += int(64 / sizeof(PackedSurface))) {
+      for (int s = 0; y + 1 < tile.y1 && s < slots; s += std::max(1, int(64 / sizeof(PackedSurface)))) {
         const size_t next = first + size_t(g.width) + size_t(s);
         prefetch_object(current.surfaces[next]);
         prefetch_object(previous.surfaces[next]);
