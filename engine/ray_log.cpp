@@ -36,9 +36,9 @@ void RayLog::end_stage() {
 uint64_t RayLog::rays(int stage) const {
   uint64_t n = 0;
   for (const Buffers& b : buffers_) {
-    for (const Single& s : b.singles) n += stage == kAllStages || s.stage == stage;
+    for (const Single& s : b.singles) n += selects(stage, s.stage);
     for (const Packet& p : b.packets)
-      if (stage == kAllStages || p.stage == stage) n += p.active();
+      if (selects(stage, p.stage)) n += p.active();
   }
   return n;
 }
@@ -50,9 +50,9 @@ uint64_t RayLog::replay(const Tracer& tracer, int stage) const {
   std::vector<const Single*> singles;
   for (const Buffers& b : buffers_) {
     for (const Packet& p : b.packets)
-      if (stage == kAllStages || p.stage == stage) packets.push_back(&p);
+      if (selects(stage, p.stage)) packets.push_back(&p);
     for (const Single& s : b.singles)
-      if (stage == kAllStages || s.stage == stage) singles.push_back(&s);
+      if (selects(stage, s.stage)) singles.push_back(&s);
   }
   std::atomic<uint64_t> traced{0};
   parallel_for_ranges(size_t(0), packets.size(), size_t(64), [&](size_t first, size_t end) {

@@ -44,6 +44,8 @@ class RayLog {
   static constexpr int kAllStages = -1;
 
  private:
+  // Whether a query tagged `tagged` belongs to `stage` (an index of stages(), or kAllStages).
+  static bool selects(int stage, int tagged) { return stage == kAllStages || tagged == stage; }
   struct Single {
     Ray ray;
     RayQuery query;
