@@ -15,7 +15,9 @@
 
 namespace candela {
 
-inline constexpr int kLanes = 8;
+// 16: one AVX-512 vector of floats (two AVX2 ones). Measured against 8 on 2026-12-06: the a-trous stage 0.66x
+// at 1280x720 (docs/performance.md, "Denoiser cost").
+inline constexpr int kLanes = 16;
 
 // exp(-x) for x >= 0 with relative error below 3e-4: exp(-x) = 2^-n 2^-f with u = x log2(e) = n + f,
 // 2^-f by its degree-5 Taylor polynomial in f ln 2 (f in [0, 1)), 2^-n put into the exponent bits.
