@@ -56,28 +56,6 @@ void Viewer::configure_renderer(int width, int height) {
   reconfigure_ = false;
 }
 
-// Dynamic resolution: the render scale follows the target frame rate. Frame time grows with the pixel
-// count, so the scale that meets the target is scale * sqrt(target ms / measured ms); the measured time
-// is a running average (weight 1/4 on the newest frame), and the scale moves only when it is off by more
-// than 10% and 8 frames have passed since it last moved (each move restarts the Renderer's history).
-void Viewer::adapt_scale(double frame_ms) {
-  constexpr float kMinScale = 0.1f;
-  constexpr int kSettleFrames = 8;
-  if (hud_.target_fps <= 0.0f) {
-    dynamic_scale_ = 1.0f;
-    return;
-  }
-  average_frame_ms_ = frames_at_scale_ == 0 ? frame_ms : 0.75 * average_frame_ms_ + 0.25 * frame_ms;
-  if (++frames_at_scale_ < kSettleFrames) return;
-  const double target_ms = 1000.0 / hud_.target_fps;
-  const float wanted = std::clamp(float(dynamic_scale_ * std::sqrt(target_ms / std::max(average_frame_ms_, 1e-3))),
-                                  kMinScale / std::max(hud_.scale, kMinScale), 1.0f);
-  if (std::abs(wanted / dynamic_scale_ - 1.0f) <= 0.1f) return;
-  dynamic_scale_ = wanted;
-  frames_at_scale_ = 0;
-  dynamic_resize_ = true;
-}
-
 // Mouse and keys move the camera unless ImGui uses them: left drag orbits, the wheel zooms, right drag
 // looks around, WASD (QE down/up) fly, shift four times faster. Headless: the scripted orbit.
 void Viewer::apply_camera_input(const WindowInput& in, float dt) {
@@ -115,8 +93,8 @@ bool Viewer::step() {
     apply_camera_input(in, dt);
     // A new render size (window resized, scale dragged) waits until it has held for kResizeSettle, so a
     // drag reconfigures the Renderer once; meanwhile the last size is shown stretched. Dynamic resolution's
-    // sizes apply at once (adapt_scale already waits between them).
-    const float scale = hud_.scale * dynamic_scale_;
+    // sizes apply at once (DynamicScale already waits between them).
+    const float scale = hud_.scale * dynamic_scale_.factor();
     int width = scaled(in.framebuffer_width, scale), height = scaled(in.framebuffer_height, scale);
     if (width != pending_width_ || height != pending_height_) {
       pending_width_ = width;
@@ -132,9 +110,11 @@ bool Viewer::step() {
     display_->draw(in.framebuffer_width, in.framebuffer_height);
     if (frames_done_ > 1) {  // the first step's time is the setup's
       frame_times_.push_back(frame_ms);
-      adapt_scale(frame_ms);
+      // Dynamic resolution's factor on the HUD's scale, which keeps the render at least 0.1 of the window.
+      constexpr float kMinScale = 0.1f;
+      dynamic_resize_ = dynamic_scale_.update(frame_ms, hud_.target_fps, kMinScale / std::max(hud_.scale, kMinScale));
     }
-    hud_.dynamic_scale = dynamic_scale_;
+    hud_.dynamic_scale = dynamic_scale_.factor();
     history_.push(frame_ms, std::move(stats));
     HudActions actions;  // without the HUD (--no-hud), ImGui draws nothing and nothing is clicked
     if (options_.hud) actions = draw_hud(hud_, history_, *renderer_, camera_.desc(), hud_rect_);

@@ -9,6 +9,7 @@
 
 #include "apps/renderer.h"
 #include "apps/viewer/camera_controller.h"
+#include "apps/viewer/dynamic_scale.h"
 #include "apps/viewer/frame_display.h"
 #include "apps/viewer/gl_context.h"
 #include "apps/viewer/hud.h"
@@ -52,7 +53,6 @@ class Viewer {
  private:
   void apply_camera_input(const WindowInput& input, float dt);
   void configure_renderer(int width, int height);
-  void adapt_scale(double frame_ms);
   void save_view(const std::string& extension);
 
   ViewerOptions options_;
@@ -68,12 +68,10 @@ class Viewer {
   int frames_done_ = 0;  // loop iterations, drawn or minimised
   int frame_index_ = 0;  // the Renderer's frame number (random streams)
   float scene_time_ = 0.0f;
-  bool reconfigure_ = false;    // the HUD changed a setting: the Renderer takes the HUD's settings
-  float dynamic_scale_ = 1.0f;  // dynamic resolution's factor on the HUD's scale (1 without a target)
-  double average_frame_ms_ = 0.0;
-  int frames_at_scale_ = 0;                             // frames since the dynamic scale last changed
-  bool dynamic_resize_ = false;                         // it changed: the next frame takes the new size without waiting
-  std::vector<double> frame_times_;                     // every drawn frame's loop time (ms), for the exit summary
+  bool reconfigure_ = false;         // the HUD changed a setting: the Renderer takes the HUD's settings
+  DynamicScale dynamic_scale_;       // dynamic resolution's factor on the HUD's scale (1 without a target)
+  bool dynamic_resize_ = false;      // it changed: the next frame takes the new size without waiting
+  std::vector<double> frame_times_;  // every drawn frame's loop time (ms), for the exit summary
   int framebuffer_width_ = 0, framebuffer_height_ = 0;  // of the last frame drawn
   int pending_width_ = 0, pending_height_ = 0;          // the latest render size asked for, and since when
   std::chrono::steady_clock::time_point pending_since_;
