@@ -34,6 +34,7 @@ static RestirSettings restir_settings(const RenderSettings& s) {
   r.di_reuse = s.di_reuse;
   r.gi_reuse = s.gi_reuse;
   r.gi.max_depth = s.max_depth;
+  r.gi.rr_start_depth = s.rr_depth;
   r.with_gi = s.method == Method::Restir;
   r.gi_only = s.test.gi_only;
   r.seed = s.seed;
@@ -161,6 +162,7 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int done,
   params.spp = spp;
   params.first_sample = accumulated_spp_;
   params.max_depth = settings_.method == Method::Direct ? 1 : settings_.max_depth;
+  params.rr_start_depth = settings_.rr_depth;
   params.seed = settings_.seed;
   params.jitter = settings_.jitter;
   params.sequence = settings_.sampler;

@@ -61,6 +61,7 @@ struct RenderSettings {
   int width = 640, height = 360;
   int spp = 1;        // samples per pixel per frame
   int max_depth = 8;  // path tracer bounces (1 = direct light only)
+  int rr_depth = 3;   // pt and ReSTIR GI's paths: Russian roulette from this bounce on
   uint64_t seed = 1;
   Method method = Method::PathTrace;
   LightSamplerKind light_sampler = LightSamplerKind::Auto;

@@ -175,6 +175,11 @@ void append_frame_rows(std::vector<Setting>& rows) {
       "max_depth", g, SettingType::Int, 1, 1024, [](auto& s) -> auto& { return s.max_depth; },
       "Path bounces; 1 = direct light only", kPt | kRestir));
   rows.back().widget_max = 16;
+  rows.push_back(number_row(
+      "rr_depth", g, SettingType::Int, 1, 1024, [](auto& s) -> auto& { return s.rr_depth; },
+      "Russian roulette ends paths at random from this bounce on (unbiased; smaller is faster and noisier)",
+      kPt | kRestir));
+  rows.back().widget_max = 8;
   rows.push_back(choice_row(
       "method", g, method_names(), [](auto& s) -> auto& { return s.method; },
       "Estimator: pt (reference path tracer), direct (direct light only: light samples and a BSDF "

@@ -20,7 +20,9 @@ common=(--width 320 --height 180 --environment 0 --no-jitter -q)
 if [ "$method" = restir-di ]; then
   reference=(--method direct --light-sampler tree)
 else
-  common+=(--max-depth 3); reference=(--method pt --light-sampler power)
+  # GI: 3 bounces unless the other options name a depth.
+  [[ " ${others[*]:-} " == *" --max-depth "* ]] || common+=(--max-depth 3)
+  reference=(--method pt --light-sampler power)
 fi
 scene_options=()
 for ((k = 0; k < ${#others[@]}; ++k)); do
