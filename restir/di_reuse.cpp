@@ -646,42 +646,51 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         row.inputs[count++][s] = {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
     }
   };
-  // Per tile row: every pixel's neighbours drawn first (so that the cache misses of their surfaces and
-  // reservoirs, the planes of the 33 rows within the radius exceeding L2, overlap), then tested for
-  // similarity (in lanes with params.simd) and selected, then the row's combinations.
+  // Per tile row: every pixel's neighbours drawn first, a row ahead (so that the cache misses of their surfaces and
+  // reservoirs, the planes of the 17 rows within the radius exceeding L2, overlap with the previous row's
+  // combinations), then tested for similarity (in lanes with params.simd) and selected, then the row's combinations.
+  struct RowDraws {
+    Drawn drawn[kLaneSlots];
+    ReuseStreams streams;             // the row's pixels' streams, after their neighbours' draws
+    uint32_t start[kLaneSlots] = {};  // block > 1: each slot's block's start
+  };
+  // Row y's neighbours into `r`: the blocks' starts, one draw per block (a keyed stream costs about as much as the
+  // pixel's own), then each pixel's.
+  auto draw_row = [&](const Tile& tile, int y, RowDraws& r) {
+    const int slots = tile.x1 - tile.x0;
+    const size_t first = size_t(y) * size_t(width) + size_t(tile.x0);
+    for (int s = 0; block > 1 && s < slots; ++s) {
+      const int x = tile.x0 + s;
+      r.start[s] = s > 0 && x % block != 0 ? r.start[s - 1] : block_start(x, y);
+    }
+    r.streams.key(slots, params.seed, first, uint64_t(frame), spatial_stream(kPixelStreams, pass));  // Rng::for_key
+    for (int s = 0; s < slots; ++s) draw(first + size_t(s), tile.x0 + s, y, r.start[s], r.streams, s, r.drawn[s]);
+  };
   for_each_tile(width, height, [&](const Tile& tile) {
     struct Batch {
       ReuseRow row;
-      Drawn drawn[kLaneSlots];
-      ReuseStreams streams;
+      RowDraws draws[2];             // row y's in draws[(y - tile.y0) % 2]
       ReuseStreams further_streams;  // further: the uniforms of the further samples
       alignas(64) float v[kLaneSlots];
-      uint32_t start[kLaneSlots] = {};  // block > 1: each slot's block's start
-      NeighbourLanes neighbours;        // params.simd
+      NeighbourLanes neighbours;  // params.simd
     };
     thread_local Batch batch;
     const int slots = tile.x1 - tile.x0;
     uint64_t traced = 0;
+    draw_row(tile, tile.y0, batch.draws[0]);
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(width) + size_t(tile.x0);
-      // The row's blocks' starts, one draw per block (a keyed stream costs about as much as the pixel's own).
-      for (int s = 0; block > 1 && s < slots; ++s) {
-        const int x = tile.x0 + s;
-        batch.start[s] = s > 0 && x % block != 0 ? batch.start[s - 1] : block_start(x, y);
-      }
-      batch.streams.key(slots, params.seed, first, uint64_t(frame),
-                        spatial_stream(kPixelStreams, pass));  // Rng::for_key
+      RowDraws& now = batch.draws[(y - tile.y0) % 2];
+      if (y + 1 < tile.y1) draw_row(tile, y + 1, batch.draws[(y + 1 - tile.y0) % 2]);
+      if (params.simd) test_similar(first, slots, now.drawn, batch.neighbours);
       for (int s = 0; s < slots; ++s)
-        draw(first + size_t(s), tile.x0 + s, y, batch.start[s], batch.streams, s, batch.drawn[s]);
-      if (params.simd) test_similar(first, slots, batch.drawn, batch.neighbours);
-      for (int s = 0; s < slots; ++s)
-        select(first + size_t(s), batch.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row);
+        select(first + size_t(s), now.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row);
       if (further) {
         batch.further_streams.key(slots, params.seed, first, uint64_t(frame), spatial_stream(kFurtherPoints, pass));
         batch.further_streams.fill(1, slots, batch.v);
       }
       const FurtherSamples more{further, batch.v};
-      traced += combine_row(view, params, slots, batch.row, batch.streams, first, in, out, further ? &more : nullptr);
+      traced += combine_row(view, params, slots, batch.row, now.streams, first, in, out, further ? &more : nullptr);
     }
     rays.add(traced);
   });
