@@ -114,10 +114,12 @@ void BuildExactReceivers(const ExactSurfaceLanes& surfaces, const vec3& eye, int
   for (int s = 0; s < slots; s += lanes) build_exact(d, surfaces, eye, s, out.exact, &out);
 }
 
-void BuildReceiverLanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out) {
+void BuildReceiverLanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out,
+                        const float* wanted) {
   const D d;
   const int lanes = int(hn::Lanes(d));
-  for (int s = 0; s < slots; s += lanes) build(d, surfaces, eye, s, out);
+  for (int s = 0; s < slots; s += lanes)
+    if (!wanted || !hn::AllFalse(d, hn::Gt(hn::Load(d, wanted + s), hn::Zero(d)))) build(d, surfaces, eye, s, out);
 }
 
 }  // namespace HWY_NAMESPACE
@@ -139,8 +141,9 @@ void build_exact_receivers(const ExactSurfaceLanes& surfaces, const vec3& eye, i
   HWY_DYNAMIC_DISPATCH(BuildExactReceivers)(surfaces, eye, slots, out);
 }
 
-void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out) {
-  HWY_DYNAMIC_DISPATCH(BuildReceiverLanes)(surfaces, eye, slots, out);
+void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out,
+                          const float* wanted) {
+  HWY_DYNAMIC_DISPATCH(BuildReceiverLanes)(surfaces, eye, slots, out, wanted);
 }
 
 }  // namespace candela

@@ -31,9 +31,11 @@ struct SurfaceLanes {
 // Slots [0, slots) of `out`: position, geometric normal, wo and the `target` BSDF planes of the receivers
 // of `surfaces` seen from `eye`, except the two terms only Bsdf::pdf reads (g1_o and p_specular are left 0):
 // evaluate_candidate_lanes may read these receivers without with_bsdf_pdf. A slot holding an empty surface
-// (no hit) gets a receiver too: callers leave its candidates inactive. Cost per receiver: ~150 flops and 4 table
-// gathers, in lanes.
-void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out);
+// (no hit) gets a receiver too: callers leave its candidates inactive. With `wanted`, a vector of slots none of
+// which has wanted[s] > 0 is left as it was (a plane of inputs that few pixels of the row have). Cost per receiver:
+// ~150 flops and 4 table gathers, in lanes.
+void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out,
+                          const float* wanted = nullptr);
 
 // Exact G-buffer surfaces gathered into one plane per field (slot s: one pixel; set_row() transposes).
 struct ExactSurfaceLanes {

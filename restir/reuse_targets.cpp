@@ -73,8 +73,10 @@ void targets_at_combiners(const Scene& scene, const DiDomain& here, size_t first
 
 // p_k(y_0) of every slot and input k >= 1: the combining pixels' own samples at input k's receivers, one
 // receiver plane per k, each sample placed as input k's frame placed the lights; with `visibility`, the
-// shadow rays from input k's surface to y_0 where p_k(y_0) > 0 (answers into bit k of `visible`). Returns
-// the rays traced.
+// shadow rays from input k's surface to y_0 where p_k(y_0) > 0 (answers into bit k of `visible`). A slot's own
+// sample is inactive from its last input on, so that the planes of inputs few slots have (the disocclusion
+// boost's, up to 10 neighbours where the rest of the row has 3) build and evaluate only the vectors holding them.
+// Returns the rays traced.
 uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, bool visibility, ReuseRow& row,
                               Planes& planes) {
   auto answer = [&](uint32_t tag, const RayPacket16& packet, int lane) {
@@ -106,7 +108,9 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
       }
       own_placed_by = &domain->lights;
     }
-    build_receiver_lanes(planes.surfaces, domain->eye, slots, planes.others);
+    for (int s = 0; s < slots; ++s)
+      if (k >= row.count[s]) planes.own.clear(s);  // no input k: stays so for the larger k
+    build_receiver_lanes(planes.surfaces, domain->eye, slots, planes.others, planes.own.active);
     evaluate_candidate_lanes(planes.others, &planes.own, 1, slots, false);
     // The shadow rays from input k's surfaces to y_0 as placed for them (di_shadow_ray's to a stored point).
     if (visibility) shadow_ray_lanes(planes.others, planes.own, view.tracer.offset_epsilon(), slots, planes.rays);
