@@ -647,7 +647,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
     }
   };
   // Per tile row: every pixel's neighbours drawn first, a row ahead (so that the cache misses of their surfaces and
-  // reservoirs, the planes of the 17 rows within the radius exceeding L2, overlap with the previous row's
+  // reservoirs, whose planes' rows within the radius exceed L2 at 640 pixels wide, overlap with the previous row's
   // combinations), then tested for similarity (in lanes with params.simd) and selected, then the row's combinations.
   struct RowDraws {
     Drawn drawn[kLaneSlots];
