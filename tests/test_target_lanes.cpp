@@ -198,6 +198,40 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
   EXPECT_GT(lit, 100 * kLaneSlots / 4) << "too few receivers facing the eye to test the wo terms";
 }
 
+// build_receiver_lanes with `wanted` (reuse's planes of inputs few slots have): a vector holding a wanted slot is
+// built as without it (the wanted slot's planes hold the full build's bits), and the vectors of no wanted slot keep
+// what they held. Slot 37 alone is wanted: slots 0-31 and 48-63 share no vector with it at 4, 8 or 16 lanes.
+TEST(TargetLanes, ReceiversSkipTheVectorsNobodyWants) {
+  Rng rng(778, 3);
+  auto packed = std::make_unique<SurfaceLanes>();
+  for (int s = 0; s < kLaneSlots; ++s) {
+    PackedSurface surface;
+    surface.position = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 4.0f;
+    surface.depth = 1.0f;
+    surface.shading_normal = oct_encode(random_unit(rng));
+    surface.geometric_normal = oct_encode(random_unit(rng));
+    surface.albedo = 0x80c0e0u;
+    surface.material = uint32_t(rng.next_u32());
+    packed->set(s, surface);
+  }
+  const vec3 eye(0.5f, 3.0f, -2.0f);
+  alignas(64) float wanted[kLaneSlots] = {};
+  wanted[37] = 1.0f;
+  constexpr float kUntouched = -12345.0f;
+  auto full = std::make_unique<ReceiverLanes>(), some = std::make_unique<ReceiverLanes>();
+  for_each_simd_target([&](const char* target) {
+    build_receiver_lanes(*packed, eye, kLaneSlots, *full);
+    std::fill(std::begin(some->px), std::end(some->px), kUntouched);
+    std::fill(std::begin(some->target.cos_o), std::end(some->target.cos_o), kUntouched);
+    build_receiver_lanes(*packed, eye, kLaneSlots, *some, wanted);
+    EXPECT_TRUE(same_bits(some->px[37], full->px[37]) && same_bits(some->target.cos_o[37], full->target.cos_o[37]))
+        << target;
+    for (int s = 0; s < kLaneSlots; ++s)
+      if (s < 32 || s >= 48)
+        EXPECT_TRUE(some->px[s] == kUntouched && some->target.cos_o[s] == kUntouched) << target << " slot " << s;
+  });
+}
+
 // The exact receivers' BSDF terms built in lanes from G-buffer surfaces (random positions, normals, colours,
 // roughness, metallic and specular factors with their extremes, coloured dielectric F0s, the eye on either
 // side) against di_exact_receiver and Bsdf::wo_terms, including the two terms only BSDF sampling reads (G1 and
