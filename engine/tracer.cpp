@@ -32,29 +32,6 @@ static RTCDevice shared_device() {
   return device;
 }
 
-void RayPacket16::start(int lane, vec3 origin, float tmin, float tmax) {
-  RTCRay16& r = rayhit.ray;
-  r.org_x[lane] = origin.x;
-  r.org_y[lane] = origin.y;
-  r.org_z[lane] = origin.z;
-  r.tnear[lane] = tmin;
-  r.tfar[lane] = tmax;
-  r.time[lane] = 0.0f;
-  r.mask[lane] = 0xffffffffu;
-  r.id[lane] = unsigned(lane);
-  r.flags[lane] = 0;
-  rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
-  rayhit.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
-  valid[lane] = -1;
-}
-
-void RayPacket16::set(int lane, const Ray& ray) {
-  start(lane, ray.origin, ray.tmin, ray.tmax);
-  rayhit.ray.dir_x[lane] = ray.direction.x;
-  rayhit.ray.dir_y[lane] = ray.direction.y;
-  rayhit.ray.dir_z[lane] = ray.direction.z;
-}
-
 void RayPacket16::set_row4(int r, const vec3& origin, const float* dx, const float* dy, const float* dz, int n) {
   // From local copies of the origin and directions, so that each field is one 4-wide store (through the
   // references the compiler would have to assume every store may change them).

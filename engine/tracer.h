@@ -41,7 +41,13 @@ struct Hit {
 struct alignas(64) RayPacket16 {
   RTCRayHit16 rayhit;
   alignas(64) int valid[16];
-  void set(int lane, const Ray& ray);
+  // Inline: the ray queues call it once per ray. Out of line, `di_shade` took 1.04-1.09x its time (2026-12-06).
+  void set(int lane, const Ray& ray) {
+    start(lane, ray.origin, ray.tmin, ray.tmax);
+    rayhit.ray.dir_x[lane] = ray.direction.x;
+    rayhit.ray.dir_y[lane] = ray.direction.y;
+    rayhit.ray.dir_z[lane] = ray.direction.z;
+  }
   void set_inactive(int lane) { valid[lane] = 0; }
   // Lanes [4r, 4r + 4), row r of a 4x4 pixel block: rays from `origin` along (dx[k], dy[k], dz[k]) for k < n,
   // from tmin 0 to infinity; the other lanes of the row inactive.
@@ -50,7 +56,21 @@ struct alignas(64) RayPacket16 {
  private:
   // Everything of an active lane but its direction: origin, [tmin, tmax], no hit yet. The origin by value: no
   // store into the packet can change it, so set_row4's loop keeps it in registers.
-  void start(int lane, vec3 origin, float tmin, float tmax);
+  void start(int lane, vec3 origin, float tmin, float tmax) {
+    RTCRay16& r = rayhit.ray;
+    r.org_x[lane] = origin.x;
+    r.org_y[lane] = origin.y;
+    r.org_z[lane] = origin.z;
+    r.tnear[lane] = tmin;
+    r.tfar[lane] = tmax;
+    r.time[lane] = 0.0f;
+    r.mask[lane] = 0xffffffffu;
+    r.id[lane] = unsigned(lane);
+    r.flags[lane] = 0;
+    rayhit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+    rayhit.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+    valid[lane] = -1;
+  }
 };
 
 // What a query asks for: whether anything blocks the ray, or its closest hit.
