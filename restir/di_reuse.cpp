@@ -281,23 +281,20 @@ bool targets_known(const ReuseRow& row, int s, bool visibility) {
   return true;
 }
 
-// The slots of a row marked in_lanes into the combination lanes (the others get count 0), one input of every
-// slot at a time; the uniforms of every slot's inputs, in combine's order, drawn in lanes from a copy of the
-// streams (slots that do not combine in lanes ignore theirs); the lanes read the row's targets where
-// evaluate_reuse_targets left them. Returns the largest count.
-int gather_combinations(const ReuseRow& row, int slots, const bool* in_lanes, const ReuseStreams& streams,
+// The slots of a row that can combine in lanes (targets_known: in_lanes[s] receives whether slot s can) into the
+// combination lanes (the others get count 0), one slot at a time, so that each input's reservoir is read while
+// targets_known's reads of it are still in L1; the uniforms of every slot's inputs, in combine's order, drawn in
+// lanes from a copy of the streams (slots that do not combine in lanes ignore theirs); the lanes read the row's
+// targets where evaluate_reuse_targets left them. Returns the largest count.
+int gather_combinations(const ReuseRow& row, int slots, bool visibility, const ReuseStreams& streams, bool* in_lanes,
                         CombineLanes& lanes) {
   int max_count = 0;
   for (int s = 0; s < slots; ++s) {
+    in_lanes[s] = row.count[s] > 0 && targets_known(row, s, visibility);
     const int count = in_lanes[s] ? row.count[s] : 0;
     lanes.count[s] = float(count);
     max_count = std::max(max_count, count);
-  }
-  ReuseStreams uniforms = streams;
-  uniforms.fill(max_count, slots, &lanes.u[0][0]);  // lanes.u[k][s]: number k of slot s
-  for (int k = 0; k < max_count; ++k)
-    for (int s = 0; s < slots; ++s) {
-      if (!in_lanes[s] || k >= row.count[s]) continue;
+    for (int k = 0; k < count; ++k) {
       const DiReuseInput& in = row.inputs[k][s];
       lanes.M[k][s] = in.M;
       lanes.W[k][s] = in.reservoir->W;
@@ -305,6 +302,9 @@ int gather_combinations(const ReuseRow& row, int slots, const bool* in_lanes, co
       lanes.own_visible[k][s] = in.own_visible == 1 ? 1.0f : 0.0f;
       lanes.of_visible[k][s] = float(row.visible[s] >> k & 1u);
     }
+  }
+  ReuseStreams uniforms = streams;
+  uniforms.fill(max_count, slots, &lanes.u[0][0]);  // lanes.u[k][s]: number k of slot s
   lanes.at = row.at_combiner;
   lanes.of = row.of_combiner;
   return max_count;
@@ -355,8 +355,8 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
   thread_local CombineLanes lanes;
   bool in_lanes[kLaneSlots] = {};
   if (params.simd && params.bias == DiBiasCorrection::Pairwise && params.max_jacobian <= 0.0f) {
-    for (int s = 0; s < slots; ++s) in_lanes[s] = row.count[s] > 0 && targets_known(row, s, params.mis_visibility);
-    if (const int max_count = gather_combinations(row, slots, in_lanes, streams, lanes); max_count > 0)
+    if (const int max_count = gather_combinations(row, slots, params.mis_visibility, streams, in_lanes, lanes);
+        max_count > 0)
       combine_pairwise_lanes(lanes, slots, max_count, params.mis_visibility);
   }
   DiReuseInput inputs[kMaxReuseInputs];  // a slot's inputs, for combining it one at a time
