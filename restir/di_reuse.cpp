@@ -266,26 +266,26 @@ DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count
 // Whether slot s of a row can combine in lanes: every target its pairwise weights read was evaluated
 // beforehand (not so for punctual lights' samples), and with `visibility` every visibility they read was
 // traced beforehand (a neighbour's own sample: the spatial pass's rays; the combining pixel's sample from a
-// neighbour: evaluate_reuse_targets's), where the weight's term is positive.
+// neighbour: evaluate_reuse_targets's), where the weight's term is positive. Bit tests on the row's masks, and
+// with visibility a pass over the slot's inputs.
 bool targets_known(const ReuseRow& row, int s, bool visibility) {
-  const bool own_sampled = row.inputs[0][s].reservoir->W > 0.0f;
-  for (int k = 1; k < row.count[s]; ++k) {
+  const uint32_t others = uint32_t((uint64_t(1) << row.count[s]) - 1u) & ~1u;  // inputs 1 .. count - 1
+  const uint32_t sampled = row.sampled[s] & others;
+  const bool own_sampled = row.sampled[s] & 1u;
+  if ((sampled & ~row.known_at[s]) || (own_sampled && (others & ~row.known_of[s]))) return false;
+  for (int k = 1; visibility && k < row.count[s]; ++k) {
     const DiReuseInput& in = row.inputs[k][s];
-    if (in.reservoir->W > 0.0f &&
-        (!(row.known_at[s] >> k & 1u) || (visibility && in.M * in.reservoir->p_hat_y > 0.0f && in.own_visible < 0)))
-      return false;
-    if (own_sampled && (!(row.known_of[s] >> k & 1u) ||
-                        (visibility && in.M * row.of_combiner[k][s] > 0.0f && !(row.known_visible[s] >> k & 1u))))
-      return false;
+    if ((sampled >> k & 1u) && in.M * row.own[k][s] > 0.0f && in.own_visible < 0) return false;
+    if (own_sampled && in.M * row.of_combiner[k][s] > 0.0f && !(row.known_visible[s] >> k & 1u)) return false;
   }
   return true;
 }
 
 // The slots of a row that can combine in lanes (targets_known: in_lanes[s] receives whether slot s can) into the
-// combination lanes (the others get count 0), one slot at a time, so that each input's reservoir is read while
-// targets_known's reads of it are still in L1; the uniforms of every slot's inputs, in combine's order, drawn in
-// lanes from a copy of the streams (slots that do not combine in lanes ignore theirs); the lanes read the row's
-// targets where evaluate_reuse_targets left them. Returns the largest count.
+// combination lanes (the others get count 0): their confidences, and with `visibility` the visibilities the weights
+// read; the uniforms of every slot's inputs, in combine's order, drawn in lanes from a copy of the streams (slots
+// that do not combine in lanes ignore theirs); the lanes read the row's reservoir and target planes where
+// evaluate_reuse_targets left them. Returns the largest count.
 int gather_combinations(const ReuseRow& row, int slots, bool visibility, const ReuseStreams& streams, bool* in_lanes,
                         CombineLanes& lanes) {
   int max_count = 0;
@@ -294,17 +294,16 @@ int gather_combinations(const ReuseRow& row, int slots, bool visibility, const R
     const int count = in_lanes[s] ? row.count[s] : 0;
     lanes.count[s] = float(count);
     max_count = std::max(max_count, count);
-    for (int k = 0; k < count; ++k) {
-      const DiReuseInput& in = row.inputs[k][s];
-      lanes.M[k][s] = in.M;
-      lanes.W[k][s] = in.reservoir->W;
-      lanes.own[k][s] = in.reservoir->p_hat_y;
-      lanes.own_visible[k][s] = in.own_visible == 1 ? 1.0f : 0.0f;
+    for (int k = 0; k < count; ++k) lanes.M[k][s] = row.inputs[k][s].M;
+    for (int k = 0; visibility && k < count; ++k) {
+      lanes.own_visible[k][s] = row.inputs[k][s].own_visible == 1 ? 1.0f : 0.0f;
       lanes.of_visible[k][s] = float(row.visible[s] >> k & 1u);
     }
   }
   ReuseStreams uniforms = streams;
   uniforms.fill(max_count, slots, &lanes.u[0][0]);  // lanes.u[k][s]: number k of slot s
+  lanes.W = row.W;
+  lanes.own = row.own;
   lanes.at = row.at_combiner;
   lanes.of = row.of_combiner;
   return max_count;

@@ -27,13 +27,13 @@ void resample_light_candidates_lanes(const CandidateLanes* planes, const float* 
 
 // One tile row of combinations as planes, input k of slot s at [k][s]; inputs at k >= count[s] are ignored.
 struct CombineLanes {
-  alignas(64) float count[kLaneSlots];                 // inputs of the slot (input 0: the combining pixel)
-  alignas(64) float M[kMaxReuseInputs][kLaneSlots];    // confidence the combination gives input k
-  alignas(64) float W[kMaxReuseInputs][kLaneSlots];    // its contribution weight (<= 0: no sample)
-  alignas(64) float own[kMaxReuseInputs][kLaneSlots];  // p_k(y_k): the target its reservoir stored
-  const float (*at)[kLaneSlots] = nullptr;             // p_0(y_k), k >= 1 (read where W > 0; ReuseRow's plane)
-  const float (*of)[kLaneSlots] = nullptr;             // p_k(y_0), k >= 1 (read where input 0's W > 0; ReuseRow's)
-  alignas(64) float u[kMaxReuseInputs][kLaneSlots];    // resampling uniform of input k
+  alignas(64) float count[kLaneSlots];               // inputs of the slot (input 0: the combining pixel)
+  alignas(64) float M[kMaxReuseInputs][kLaneSlots];  // confidence the combination gives input k
+  const float (*W)[kLaneSlots] = nullptr;            // its contribution weight (<= 0: no sample; ReuseRow's plane)
+  const float (*own)[kLaneSlots] = nullptr;          // p_k(y_k): the target its reservoir stored (ReuseRow's)
+  const float (*at)[kLaneSlots] = nullptr;           // p_0(y_k), k >= 1 (read where W > 0; ReuseRow's plane)
+  const float (*of)[kLaneSlots] = nullptr;           // p_k(y_0), k >= 1 (read where input 0's W > 0; ReuseRow's)
+  alignas(64) float u[kMaxReuseInputs][kLaneSlots];  // resampling uniform of input k
   // With visibility: 1 where y_k is visible from input k's surface, and where y_0 is (read where the
   // weights' terms are positive).
   alignas(64) float own_visible[kMaxReuseInputs][kLaneSlots];

@@ -9,29 +9,42 @@ namespace candela {
 
 namespace {
 
-// Whether set_placed places input `in`'s sample anew on `lights`: a triangle light's sample from a frame whose
-// lights are another list. Its light record is then read, which on `city` (104k lights) misses the cache:
-// prefetch_placed starts those loads for a whole row first.
-bool placed_anew(const DiReuseInput& in, const LightList& lights) {
-  const DiSample& y = in.reservoir->y;
-  return in.reservoir->W > 0.0f && y.light < lights.triangle_count() && &in.domain->lights != &lights;
+// Whether set_placed places input k of slot s anew on `lights`: a triangle light's sample from a frame whose lights
+// are another list. Its light record is then read, which on `city` (104k lights) misses the cache: prefetch_placed
+// starts those loads for a whole row first.
+bool placed_anew(const ReuseRow& row, int k, int s, const LightList& lights) {
+  const DiReuseInput& in = row.inputs[k][s];
+  return (row.sampled[s] >> k & 1u) && in.reservoir->y.light < lights.triangle_count() && &in.domain->lights != &lights;
 }
-void prefetch_placed(const DiReuseInput& in, const LightList& lights) {
-  if (placed_anew(in, lights)) lights.prefetch(in.reservoir->y.light);
+void prefetch_placed(const ReuseRow& row, int k, int s, const LightList& lights) {
+  if (placed_anew(row, k, s, lights)) lights.prefetch(row.inputs[k][s].reservoir->y.light);
 }
 
-// Slot s of `plane`: input `in`'s sample as receivers whose frame placed the lights as `lights` did see it
+// Slot s of `plane`: input k's sample as receivers whose frame placed the lights as `lights` did see it
 // (PlacedSample::at in di_reuse.cpp): the point it stores where its own frame placed them alike, or where it
 // is a surface point; otherwise the point its uniforms give on its light as `lights` placed it. Inactive
 // where the input has no sample and for punctual lights (left to the scalar path).
-void set_placed(const Scene& scene, const DiReuseInput& in, const LightList& lights, int s, CandidateLanes& plane) {
-  const DiSample& y = in.reservoir->y;
-  if (placed_anew(in, lights))
+void set_placed(const Scene& scene, const ReuseRow& row, int k, int s, const LightList& lights, CandidateLanes& plane) {
+  const DiSample& y = row.inputs[k][s].reservoir->y;
+  if (placed_anew(row, k, s, lights))
     plane.set(s, lights.triangle_point(scene, y.light, y.uv));
-  else if (in.reservoir->W > 0.0f && (y.light == kSurfacePointSample || y.light < lights.triangle_count()))
+  else if ((row.sampled[s] >> k & 1u) && (y.light == kSurfacePointSample || y.light < lights.triangle_count()))
     plane.set(s, y.point);
   else
     plane.clear(s);
+}
+
+// The row's reservoir planes (ReuseRow::W, own, sampled) from its inputs' reservoirs: one read of each.
+void copy_reservoir_planes(int slots, ReuseRow& row) {
+  for (int s = 0; s < slots; ++s) {
+    uint32_t sampled = 0;
+    for (int k = 0; k < row.count[s]; ++k) {
+      const DiReservoir& r = *row.inputs[k][s].reservoir;
+      row.W[k][s] = r.W, row.own[k][s] = r.p_hat_y;
+      sampled |= uint32_t(r.W > 0.0f) << k;
+    }
+    row.sampled[s] = sampled;
+  }
 }
 
 static_assert(kLaneSlots <= 64, "a row's slots fit the bits of a uint64_t");
@@ -52,12 +65,12 @@ void targets_at_combiners(const Scene& scene, const DiDomain& here, size_t first
                           ReuseRow& row, Planes& planes) {
   for (int k = 1; k < max_count; ++k)
     for (int s = 0; s < slots; ++s)
-      if (k < row.count[s]) prefetch_placed(row.inputs[k][s], here.lights);
+      if (k < row.count[s]) prefetch_placed(row, k, s, here.lights);
   planes.surfaces.set_row(here.surfaces.data() + first, slots);
   for (int k = 1; k < max_count; ++k)
     for (int s = 0; s < slots; ++s) {
       if (k < row.count[s])
-        set_placed(scene, row.inputs[k][s], here.lights, s, planes.inputs[k]);
+        set_placed(scene, row, k, s, here.lights, planes.inputs[k]);
       else
         planes.inputs[k].clear(s);
     }
@@ -99,10 +112,10 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
     }
     if (own_placed_by != &domain->lights) {
       for (int s = 0; s < slots; ++s)
-        if (row.count[s] > 1) prefetch_placed(row.inputs[0][s], domain->lights);
+        if (row.count[s] > 1) prefetch_placed(row, 0, s, domain->lights);
       for (int s = 0; s < slots; ++s) {
         if (row.count[s] > 1)
-          set_placed(view.scene, row.inputs[0][s], domain->lights, s, planes.own);
+          set_placed(view.scene, row, 0, s, domain->lights, planes.own);
         else
           planes.own.clear(s);
       }
@@ -139,6 +152,7 @@ uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combin
     here = row.inputs[0][s].domain;
     first = row.inputs[0][s].pixel - size_t(s);
   }
+  copy_reservoir_planes(slots, row);
   if (max_count < 2) return 0;
   for (int s = 0; s < slots; ++s) CHECK(row.count[s] == 0 || row.inputs[0][s].pixel == first + size_t(s));
   targets_at_combiners(view.scene, *here, first, slots, max_count, row, planes);

@@ -28,16 +28,23 @@ inline constexpr int kMaxReuseInputs = 32;  // a pixel and up to 31 neighbours
 struct ReuseRow {
   int count[kLaneSlots];
   DiReuseInput inputs[kMaxReuseInputs][kLaneSlots];
+  // Copied from the inputs' reservoirs by evaluate_reuse_targets, which reads them first, so that the later passes over
+  // the row (the placements, targets_known, the combination lanes) read planes instead of following each input's
+  // pointer again: W[k][s] and own[k][s] are input k's W and p_hat_y (k < count[s]), and bit k of sampled[s] says W >
+  // 0.
+  uint32_t sampled[kLaneSlots];
+  alignas(64) float W[kMaxReuseInputs][kLaneSlots];
+  alignas(64) float own[kMaxReuseInputs][kLaneSlots];
   uint32_t known_at[kLaneSlots], known_of[kLaneSlots], known_visible[kLaneSlots], visible[kLaneSlots];
   alignas(64) float at_combiner[kMaxReuseInputs][kLaneSlots];
   alignas(64) float of_combiner[kMaxReuseInputs][kLaneSlots];
 };
 
-// Fills the targets of row's slots [0, slots): p_0(y_k) for every input k >= 1 with a sample, with `of_combiner`
-// (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a sample, and with `visibility`
-// (MIS weights with visibility) whether y_0 is visible from input k's surface where p_k(y_0) > 0. Cost per
-// slot and input: 2 receiver builds and 2 target evaluations in lanes, plus transposing surfaces and samples
-// into planes (and placing a moved light's sample on it again), and with visibility one shadow ray, traced
+// Fills the reservoir planes of row's slots [0, slots) (W, own, sampled), then their targets: p_0(y_k) for every input
+// k >= 1 with a sample, with `of_combiner` (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a
+// sample, and with `visibility` (MIS weights with visibility) whether y_0 is visible from input k's surface where
+// p_k(y_0) > 0. Cost per slot and input: 2 receiver builds and 2 target evaluations in lanes, plus transposing surfaces
+// and samples into planes (and placing a moved light's sample on it again), and with visibility one shadow ray, traced
 // in packets of 16 in slot order. Returns the rays traced.
 uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combiner, bool visibility, ReuseRow& row);
 
