@@ -30,8 +30,7 @@ struct ReuseRow {
   DiReuseInput inputs[kMaxReuseInputs][kLaneSlots];
   // Copied from the inputs' reservoirs by evaluate_reuse_targets, which reads them first, so that the later passes over
   // the row (the placements, targets_known, the combination lanes) read planes instead of following each input's
-  // pointer again: W[k][s] and own[k][s] are input k's W and p_hat_y (k < count[s]), and bit k of sampled[s] says W >
-  // 0.
+  // pointer again: W[k][s] and own[k][s] are input k's W and p_hat_y (k < count[s]); bit k of sampled[s]: its W > 0.
   uint32_t sampled[kLaneSlots];
   alignas(64) float W[kMaxReuseInputs][kLaneSlots];
   alignas(64) float own[kMaxReuseInputs][kLaneSlots];
