@@ -468,18 +468,21 @@ TEST(TargetLanes, ShadowRaysGiveTheScalarBits) {
 // The whole chain on rendered frames: the reservoirs after 3 frames of candidates and reuse are the same
 // bits with the lanes (candidates, and the targets of temporal and spatial reuse) as with the scalar path,
 // on manylights, the Cornell box and city (whose lights and camera move: history placed by other lights), for ReSTIR DI
-// alone and with ReSTIR GI (whose reuse shares the code), with pairwise and basic MIS, and with 3 shaded samples
-// (the further samples' weights come from the lanes; the images hold their shading).
+// alone and with ReSTIR GI (whose reuse shares the code), with pairwise and basic MIS, with 3 shaded samples
+// (the further samples' weights come from the lanes; the images hold their shading), and with 31 neighbours (on the
+// Cornell box, dozens of rows hold a pixel with all 32 inputs: every bit of the rows' masks, counted once by hand).
 TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
   struct Case {
     const char* scene;
     const char* method;
     const char* bias;
     int shaded_samples = 1;
+    int neighbours = 3;
   };
   for (const Case& c : {Case{"manylights", "restir-di", "pairwise"}, Case{"cornell", "restir-di", "pairwise"},
                         Case{"city", "restir-di", "pairwise"}, Case{"manylights", "restir-di", "basic"},
-                        Case{"cornell", "restir", "pairwise"}, Case{"manylights", "restir", "pairwise", 3}}) {
+                        Case{"cornell", "restir", "pairwise"}, Case{"manylights", "restir", "pairwise", 3},
+                        Case{"cornell", "restir-di", "pairwise", 1, 31}}) {
     std::vector<DiReservoir> result[2], gi[2];
     Image image[2];
     for (int simd = 0; simd < 2; ++simd) {
@@ -488,7 +491,8 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
                                                    {"method", c.method},
                                                    {"di_bias", c.bias},
                                                    {"di_shaded_samples", c.shaded_samples},
-                                                   {"gi_shaded_samples", c.shaded_samples}});
+                                                   {"gi_shaded_samples", c.shaded_samples},
+                                                   {"di_neighbours", c.neighbours}});
       settings.di.simd = settings.di_reuse.simd = settings.gi_reuse.simd = simd == 1;  // not a setting: the oracle
       Scene scene = make_builtin_scene(c.scene);
       const CameraDesc camera = scene.default_camera();
