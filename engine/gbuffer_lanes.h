@@ -50,6 +50,21 @@ struct GBufferInstances {
   // Whether the kernels' surface of a hit on `instance` is final (a hit on a plain material), or surface_at's
   // is needed (a textured one; kNoHit: no surface).
   bool in_lanes(uint32_t instance) const { return instance != kNoHit && plain[instance]; }
+  // The two dependent loads of a hit's corners (surface_points_lanes' triangle_corners), started ahead for hits far
+  // apart, whose triangles are cache misses: first the line of the triangle's vertex indices, then, once that line
+  // has arrived, the lines of its three corners and their normals (which read the indices).
+  void prefetch_triangle(uint32_t instance, uint32_t prim) const {
+    if (instance != kNoHit) __builtin_prefetch(meshes[instance].triangles + size_t(prim) * 3);
+  }
+  void prefetch_corners(uint32_t instance, uint32_t prim) const {
+    if (instance == kNoHit) return;
+    const MeshArrays& a = meshes[instance];
+    const uint32_t* tri = a.triangles + size_t(prim) * 3;
+    for (int k = 0; k < 3; ++k) {
+      __builtin_prefetch(a.positions + size_t(tri[k]) * 3);
+      if (a.normals) __builtin_prefetch(a.normals + size_t(tri[k]) * 3);
+    }
+  }
 };
 
 // Primary rays and hits of one tile row in pixel order (slot s is pixel x0 + s).

@@ -159,13 +159,22 @@ uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerPa
     // Closest hits of the live paths' rays.
     auto bounce = ray_queue16<uint32_t>(tracer, RayQuery::Intersect, [&](uint32_t k, const RayPacket16& p, int lane) {
       hits[k] = tracer.packet_hit(p, lane);
+      if (instances) instances->prefetch_triangle(hits[k].instance, hits[k].prim);
     });
     for (uint32_t k : live) bounce.add(paths[k].ray, k);
     bounce.finish();
     // The bounce of each path (emission, its next-event estimate's shadow ray, its next ray), a group of live
-    // paths at a time, with the surfaces of the group's hits on plain materials in lanes first.
+    // paths at a time, with the surfaces of the group's hits on plain materials in lanes first. The next group's
+    // corners are prefetched a group ahead (their vertex indices were prefetched as the hits came back): later
+    // bounces' hits are scattered, and the corners' loads were the largest line of triangle_corners.
+    auto prefetch_group = [&](size_t first) {
+      for (size_t j = first; instances && j < std::min(live.size(), first + size_t(kLaneSlots)); ++j)
+        instances->prefetch_corners(hits[live[j]].instance, hits[live[j]].prim);
+    };
+    prefetch_group(0);
     for (size_t first = 0; first < live.size(); first += kLaneSlots) {
       const int count = int(std::min<size_t>(kLaneSlots, live.size() - first));
+      prefetch_group(first + size_t(kLaneSlots));
       if (instances) {
         PrimaryHitLanes row;
         for (int j = 0; j < count; ++j) {
