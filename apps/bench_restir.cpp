@@ -5,9 +5,11 @@
 // before the clock starts. Then the whole ReSTIR frame, DI + GI (`--method restir`, paths up to 8 bounces),
 // with its stages. For both methods, a frame's own queries recorded (engine/ray_log.h) and replayed alone:
 // every packet and single ray as the frame traced it, the whole frame's and each stage's alone. The ratios
-// frame / rays are what the stages between the rays cost.
+// frame / rays are what the stages between the rays cost; the summary gives them twice, from the benchmarks' medians
+// and from rounds in which frames and their rays alternate (print_interleaved_ratios).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <map>
@@ -101,6 +103,34 @@ void print_stage_replays(const RestirBenchScene& s) {
   std::printf("\n");
 }
 
+// The ratios again, from frames and replays that alternate: per round one frame, one replay of its rays (and for
+// restir-di the rays alone), each timed once, and the median and range of the rounds' ratios. The benchmarks above run
+// all repetitions of the frame before those of its rays, so a drift of the machine between them (up to 20% in a
+// minute, docs/performance.md) moves their ratio; a round's two timings are a second apart. Cost: `rounds` frames and
+// replays.
+void print_interleaved_ratios(RestirBenchScene& s, int rounds) {
+  auto time_ms = [](const std::function<void()>& body) {
+    const auto start = std::chrono::steady_clock::now();
+    body();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+  const bool di = s.method == Method::RestirDi;
+  std::vector<double> replayed, alone;
+  for (int round = 0; round < rounds; ++round) {
+    const double frame = time_ms([&] { s.renderer->render_frame(s.frame++, 0.0f, s.camera); });
+    replayed.push_back(frame / time_ms([&] { s.log.replay(s.renderer->tracer()); }));
+    if (di) alone.push_back(frame / time_ms([&] { benchmark::DoNotOptimize(trace_alone(s)); }));
+  }
+  auto print = [](const char* what, std::vector<double> ratios) {
+    std::sort(ratios.begin(), ratios.end());
+    std::printf(" %s %5.2f (%.2f-%.2f)", what, median(ratios), ratios.front(), ratios.back());
+  };
+  std::printf("%-30s interleaved (%d rounds; median, range):", "", rounds);
+  print("frame / replayed", replayed);
+  if (di) print("| frame / rays alone", alone);
+  std::printf("\n");
+}
+
 // A renderer of `source` with `method` at the bench's size, after 8 warm-up frames of a still camera.
 std::unique_ptr<RestirBenchScene> warm_scene(const std::string& source, Method method, const BenchOptions& o) {
   auto s = std::make_unique<RestirBenchScene>();
@@ -163,6 +193,7 @@ int run_restir_bench(const BenchOptions& o) {
     for (const auto& [stage, ms] : s->stage_ms) std::printf(" %s %.1f", stage.c_str(), median(ms));
     std::printf("\n");
     print_stage_replays(*s);
+    print_interleaved_ratios(*s, 7);
   }
   return 0;
 }
