@@ -1,12 +1,12 @@
-// `candela bench --suite restir`: one ReSTIR DI frame with the default parameters (4 light + 1 BSDF
-// candidates from the power sampler, temporal and one spatial pass, pairwise MIS, one shadow ray), still
-// camera, after 8 warm-up frames; next to it, the same frame's rays traced alone: its primary rays (4x4
-// packets through pixel centres), its BSDF-candidate rays and its shadow rays (single rays), generated
-// before the clock starts. Then the whole ReSTIR frame, DI + GI (`--method restir`, paths up to 8 bounces),
-// with its stages. For both methods, a frame's own queries recorded (engine/ray_log.h) and replayed alone:
-// every packet and single ray as the frame traced it, the whole frame's and each stage's alone. The ratios
-// frame / rays are what the stages between the rays cost; the summary gives them twice, from the benchmarks' medians
-// and from rounds in which frames and their rays alternate (print_interleaved_ratios).
+// `candela bench --suite restir`: one ReSTIR DI frame with the default parameters (light candidates from the
+// default sampler, `auto`: the light tree's region tiles for restir-di, the power sampler for restir; temporal and one
+// spatial pass, pairwise MIS, two shaded samples per pixel), still camera, after 8 warm-up frames; next to it, the
+// same frame's rays traced alone: its primary rays (4x4 packets through pixel centres), its BSDF-candidate rays and
+// its shadow rays (single rays), generated before the clock starts. Then the whole ReSTIR frame, DI + GI (`--method
+// restir`, paths up to 8 bounces), with its stages. For both methods, a frame's own queries recorded
+// (engine/ray_log.h) and replayed alone: every packet and single ray as the frame traced it, the whole frame's and each
+// stage's alone. The ratios frame / rays are what the stages between the rays cost; the summary gives them twice, from
+// the benchmarks' medians and from rounds in which frames and their rays alternate (print_interleaved_ratios).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
