@@ -77,6 +77,13 @@ void record_frame(RestirBenchScene& s) {
   s.renderer->set_ray_log(nullptr);
 }
 
+// Wall-clock milliseconds of one call of `body`.
+double time_ms(const std::function<void()>& body) {
+  const auto start = std::chrono::steady_clock::now();
+  body();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -90,11 +97,7 @@ void print_stage_replays(const RestirBenchScene& s) {
   for (int k = 0; k < int(s.log.stages().size()); ++k) {
     if (s.log.rays(k) == 0) continue;
     std::vector<double> times;
-    for (int rep = 0; rep < 5; ++rep) {
-      const auto start = std::chrono::steady_clock::now();
-      s.log.replay(s.renderer->tracer(), k);
-      times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-    }
+    for (int rep = 0; rep < 5; ++rep) times.push_back(time_ms([&] { s.log.replay(s.renderer->tracer(), k); }));
     const std::string& name = s.log.stages()[size_t(k)];
     const auto stage = s.stage_ms.find(name);
     std::printf(" %s %.1f / %.1f", name.empty() ? "(no stage)" : name.c_str(), median(times),
@@ -109,11 +112,6 @@ void print_stage_replays(const RestirBenchScene& s) {
 // minute, docs/performance.md) moves their ratio; a round's two timings are a second apart. Cost: `rounds` frames and
 // replays.
 void print_interleaved_ratios(RestirBenchScene& s, int rounds) {
-  auto time_ms = [](const std::function<void()>& body) {
-    const auto start = std::chrono::steady_clock::now();
-    body();
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  };
   const bool di = s.method == Method::RestirDi;
   std::vector<double> replayed, alone;
   for (int round = 0; round < rounds; ++round) {

@@ -168,7 +168,8 @@ uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerPa
     // corners are prefetched a group ahead (their vertex indices were prefetched as the hits came back): later
     // bounces' hits are scattered, and the corners' loads were the largest line of triangle_corners.
     auto prefetch_group = [&](size_t first) {
-      for (size_t j = first; instances && j < std::min(live.size(), first + size_t(kLaneSlots)); ++j)
+      if (!instances) return;
+      for (size_t j = first, end = std::min(live.size(), first + size_t(kLaneSlots)); j < end; ++j)
         instances->prefetch_corners(hits[live[j]].instance, hits[live[j]].prim);
     };
     prefetch_group(0);
