@@ -75,7 +75,24 @@ LightList::LightList(const Scene& scene)
   parallel_for(uint32_t(0), uint32_t(scene.instances.size()), [&](uint32_t i) {
     if (instance_first_light_[i] >= 0) place_instance(scene, i);
   });
+  mark_changing(scene);
   for (const PunctualLight& l : scene.punctual_lights) punctual_.push_back(to_world(scene, l));
+}
+
+// The lights that are not fixed(): those of animated instances (update() re-places them) and those whose
+// material's emission a power animation scales (every frame's list is rebuilt then, the others' records alike).
+void LightList::mark_changing(const Scene& scene) {
+  changing_.assign((triangles_.size() + 63) / 64, 0);
+  std::vector<bool> animated_material(scene.materials.size(), false);
+  for (const PowerAnimation& a : scene.power_animations)
+    if (a.target == PowerAnimation::Target::Material) animated_material[size_t(a.index)] = true;
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    if (instance_first_light_[i] < 0) continue;
+    if (!scene.instances[i].animated && !animated_material[scene.meshes[instance_mesh_[i]].material]) continue;
+    const size_t first = size_t(instance_first_light_[i]);
+    for (size_t k = first; k < first + mesh_emission_[instance_mesh_[i]].prims.size(); ++k)
+      changing_[k >> 6] |= uint64_t(1) << (k & 63);
+  }
 }
 
 // Writes the world-space triangle lights of one instance into their slots.

@@ -96,6 +96,10 @@ class LightList {
   void prefetch(size_t index) const {
     if (index < triangles_.size()) prefetch_object(triangles_[index]);
   }
+  // Whether light `index` is a triangle light that every list built from this scene places and lights alike: none of
+  // an animated instance's, its material's emission not animated. A sample's point on it stored from another frame's
+  // list is the point this list gives, to the bit, so temporal reuse need not place it anew (nor read its record).
+  bool fixed(size_t index) const { return index < triangles_.size() && !(changing_[index >> 6] >> (index & 63) & 1u); }
   const std::vector<TriangleLight>& triangles() const { return triangles_; }
   const std::vector<PunctualLight>& punctual() const { return punctual_; }
   vec3 environment() const { return environment_; }
@@ -113,6 +117,7 @@ class LightList {
 
  private:
   void place_instance(const Scene& scene, uint32_t instance);
+  void mark_changing(const Scene& scene);
   static PunctualLight to_world(const Scene& scene, const PunctualLight& light);
 
   std::vector<MeshEmission> mesh_emission_;
@@ -120,6 +125,7 @@ class LightList {
   std::vector<int64_t> instance_first_light_;  // per instance: index of its first triangle light, or -1
   std::vector<uint32_t> animated_emitters_;    // the animated instances with triangle lights
   std::vector<TriangleLight> triangles_;
+  std::vector<uint64_t> changing_;  // bit per triangle light: not fixed() (on an animated instance, or power-animated)
   std::vector<PunctualLight> punctual_;
   vec3 environment_{0.0f};
   float scene_radius_ = 0.0f;

@@ -37,7 +37,7 @@ const std::vector<vec2>& neighbour_offsets() {
 
 // A sample of input k as seen by the receiver of input z: samples hold their point as placed in their
 // own frame; only where z's frame placed the lights differently (moving lights, temporal reuse) is the
-// point re-placed.
+// point re-placed, and only on a light that may have moved (LightList::fixed: the others' points are the same bits).
 struct PlacedSample {
   const DiSample& own;  // as stored by its input
   const LightList* own_lights;
@@ -45,7 +45,7 @@ struct PlacedSample {
   const LightList* here_lights;
   const DiSample& at(const LightList* lights, const Scene& scene, DiSample& scratch) const {
     if (lights == here_lights) return here;
-    if (lights == own_lights || own.light == kSurfacePointSample) return own;
+    if (lights == own_lights || own.light == kSurfacePointSample || lights->fixed(own.light)) return own;
     scratch = di_resolve(scene, *lights, own.light, own.uv);
     return scratch;
   }
@@ -196,11 +196,11 @@ float mis_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets
 }
 
 // Input k's sample as placed for the combining pixel (input 0), into `here`: re-placed only where input 0's
-// frame placed the lights differently (moving lights, temporal reuse). (Written in place: returned by value,
-// the copy stalled on store forwarding in the profile.)
+// frame placed the lights differently (moving lights, temporal reuse) and its light may have moved (not
+// LightList::fixed). (Written in place: returned by value, the copy stalled on store forwarding in the profile.)
 void place_for_combiner(const SceneView& view, const DiReuseInput& in, const LightList* here_lights, DiSample& here) {
   const DiSample& own = in.reservoir->y;
-  if (&in.domain->lights == here_lights || own.light == kSurfacePointSample) {
+  if (&in.domain->lights == here_lights || own.light == kSurfacePointSample || here_lights->fixed(own.light)) {
     here = own;
     return;
   }

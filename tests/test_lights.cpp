@@ -13,6 +13,8 @@
 namespace candela {
 namespace {
 
+using testing::same_bits;
+
 // One triangle covering the lower-left half of UV space, its material emitting through `texture`.
 Scene textured_triangle_scene(Texture texture) {
   Scene s;
@@ -107,6 +109,69 @@ TEST(Lights, AnimatedLightsFollowTheirInstances) {
     ++attached;
   }
   EXPECT_GT(attached, 0u);
+}
+
+// LightList::fixed, on which temporal reuse relies to keep a sample's stored point instead of placing it anew on the
+// other frame's list: a fixed light's point is the same bits in every list of the scene (last frame's updated in place,
+// or rebuilt as power animations rebuild it), while the lights of the moving cars and of a power-animated material are
+// not fixed, and their points or radiance do change.
+TEST(Lights, FixedLightsArePlacedAlikeByEveryFramesList) {
+  Scene scene = make_city_scene(7);
+  // A power animation of the material of the first static emitting instance (a city window material).
+  int animated_material = -1;
+  for (const Instance& inst : scene.instances)
+    if (!inst.animated && scene.materials[scene.meshes[inst.mesh].material].emissive()) {
+      animated_material = scene.meshes[inst.mesh].material;
+      break;
+    }
+  ASSERT_GE(animated_material, 0);
+  PowerAnimation power;
+  power.target = PowerAnimation::Target::Material;
+  power.index = animated_material;
+  power.base = scene.materials[size_t(animated_material)].emission;
+  power.scale.times = {0.0f, 2.0f};
+  power.scale.values = {1.0f, 3.0f};
+  scene.power_animations.push_back(power);
+  scene.set_time(0.0f);
+  LightList before(scene), updated(scene);
+  scene.set_time(1.5f);
+  updated.update(scene);
+  const LightList rebuilt(scene);
+  ASSERT_EQ(rebuilt.triangle_count(), before.triangle_count());
+  auto same = [](const LightPoint& a, const LightPoint& b) {
+    for (int c = 0; c < 3; ++c)
+      if (!same_bits(a.position[c], b.position[c]) || !same_bits(a.normal[c], b.normal[c]) ||
+          !same_bits(a.radiance[c], b.radiance[c]))
+        return false;
+    return a.two_sided == b.two_sided;
+  };
+  Rng rng(5, 1);
+  size_t fixed = 0, moving = 0, moved = 0, powered = 0, changed = 0;
+  for (size_t k = 0; k < before.triangle_count(); ++k) {
+    const TriangleLight& l = before.triangles()[k];
+    const bool on_car = scene.instances[l.instance].animated;
+    const bool on_animated_material = scene.meshes[scene.instances[l.instance].mesh].material == animated_material;
+    EXPECT_EQ(before.fixed(k), !on_car && !on_animated_material) << "light " << k;
+    EXPECT_EQ(rebuilt.fixed(k), before.fixed(k)) << "light " << k;
+    const vec2 u(rng.next_float(), rng.next_float());
+    const LightPoint old_point = before.triangle_point(scene, k, u);
+    const bool kept =
+        same(old_point, updated.triangle_point(scene, k, u)) && same(old_point, rebuilt.triangle_point(scene, k, u));
+    if (before.fixed(k)) {
+      EXPECT_TRUE(kept) << "fixed light " << k << " placed differently";
+      ++fixed;
+    } else {
+      (on_car ? moving : powered) += 1;
+      changed += !kept;
+      moved += on_car && !same(old_point, updated.triangle_point(scene, k, u));
+    }
+  }
+  EXPECT_GT(fixed, 1000u);
+  EXPECT_GT(moving, 0u);
+  EXPECT_GT(powered, 0u);
+  EXPECT_EQ(moved, moving) << "every car light moves between t = 0 and 1.5";
+  EXPECT_EQ(changed, moving + powered) << "every light that is not fixed changes";
+  EXPECT_FALSE(before.fixed(before.triangle_count()));  // punctual lights are never fixed
 }
 
 // For triangle lights the density sample() reports is the one pdf_solid_angle() computes for the same
