@@ -316,27 +316,23 @@ struct FurtherSamples {
   const float* v;
 };
 
-// The further samples of slot s's combination `r` (whose weights are `resampled`) into further.out at pixel i, by
-// systematic resampling (systematic_picks, reservoir.h): each is kept as the combination keeps its one and gets its
-// contribution weight w_sum / p_0(y), so every reservoir is the combination's estimator, and the samples are
-// stratified over the weights. A slot that kept no sample (nothing combined, or no weight) copies `r` into each.
-void select_further(const SceneView& view, const ReuseRow& row, int s, int count, const Resampled& resampled,
-                    const DiReservoir& r, float v, size_t i, const FurtherSamples& further) {
-  const int n = int(further.out->size()) + 1;
-  CHECK(n <= kMaxShadedSamples);
-  int picks[kMaxShadedSamples];
-  const bool sampled = resampled.chosen >= 0 && r.W > 0.0f;
-  if (sampled) systematic_picks(resampled.w, count, resampled.chosen, v, n, picks);
-  for (int j = 1; j < n; ++j) {
+// The further samples of slot s's combination `r` into further.out at pixel i: sample j (1 <= j < n) is input
+// picks[j]'s, drawn by systematic resampling over the combination's weights (systematic_picks, reservoir.h, or
+// systematic_picks_lanes), and p_hat[j] its target at the combining pixel. Each is kept as the combination keeps its
+// one and gets its contribution weight w_sum / p_0(y), so every reservoir is the combination's estimator, and the
+// samples are stratified over the weights. Without picks (the slot kept no sample: nothing combined, or no weight) `r`
+// is copied into each.
+void write_further(const SceneView& view, const ReuseRow& row, int s, const int* picks, const float* p_hat,
+                   const DiReservoir& r, size_t i, const FurtherSamples& further) {
+  for (int j = 1; j <= int(further.out->size()); ++j) {
     DiReservoir& out = (*further.out)[size_t(j - 1)][i];
-    if (!sampled) {
+    if (!picks) {
       out = r;
       continue;
     }
     out.w_sum = r.w_sum, out.M = r.M;  // the sample's fields are written once, below
-    const int k = picks[j];
-    place_for_combiner(view, row.inputs[k][s], &row.inputs[0][s].domain->lights, out.y);
-    out.p_hat_y = resampled.p_hat[k];
+    place_for_combiner(view, row.inputs[picks[j]][s], &row.inputs[0][s].domain->lights, out.y);
+    out.p_hat_y = p_hat[j];
     out.finalize();
   }
 }
@@ -351,42 +347,54 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
   const bool weights = params.bias != DiBiasCorrection::None;
   uint64_t traced =
       params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
+  const int n = further ? int(further->out->size()) + 1 : 1;  // samples per slot
+  CHECK(n <= kMaxShadedSamples);
   thread_local CombineLanes lanes;
   bool in_lanes[kLaneSlots] = {};
   if (params.simd && params.bias == DiBiasCorrection::Pairwise && params.max_jacobian <= 0.0f) {
     if (const int max_count = gather_combinations(row, slots, params.mis_visibility, streams, in_lanes, lanes);
-        max_count > 0)
+        max_count > 0) {
       combine_pairwise_lanes(lanes, slots, max_count, params.mis_visibility);
+      if (n > 1) systematic_picks_lanes(lanes, further->v, n, slots, max_count);
+    }
   }
   DiReuseInput inputs[kMaxReuseInputs];  // a slot's inputs, for combining it one at a time
   Resampled resampled;
+  int picks[kMaxShadedSamples];  // a slot's further samples' inputs (picks[0]: the kept one) and targets
+  float p_hat[kMaxShadedSamples];
   for (int s = 0; s < slots; ++s) {
     const size_t i = first + size_t(s);
     DiReservoir& r = out[i];
+    bool picked = false;  // picks and p_hat hold the slot's further samples
     if (row.count[s] == 0) {
       r = in[i];
-      resampled.chosen = -1;  // nothing combined: select_further copies the reservoir
     } else if (!in_lanes[s]) {
       for (int k = 0; k < row.count[s]; ++k) inputs[k] = row.inputs[k][s];
       const SlotTargets targets{row, s};
       Rng rng = streams.stream(s);
+      resampled.chosen = -1;
       r = combine(view, inputs, row.count[s], params, params.simd ? &targets : nullptr, rng, traced,
                   further ? &resampled : nullptr);
+      if ((picked = n > 1 && resampled.chosen >= 0 && r.W > 0.0f)) {
+        systematic_picks(resampled.w, row.count[s], resampled.chosen, further->v[s], n, picks);
+        for (int j = 1; j < n; ++j) p_hat[j] = resampled.p_hat[picks[j]];
+      }
     } else {
       // The kept input's sample, placed for the combining pixel, with the lanes' sums.
       static const DiSample kNone{};
-      if (const int k = int(lanes.result.chosen[s]); k >= 0)
-        place_for_combiner(view, row.inputs[k][s], &row.inputs[0][s].domain->lights, r.y);
+      const int chosen = int(lanes.result.chosen[s]);
+      if (chosen >= 0)
+        place_for_combiner(view, row.inputs[chosen][s], &row.inputs[0][s].domain->lights, r.y);
       else
         r.y = kNone;
       r.p_hat_y = lanes.result.p_hat[s], r.w_sum = lanes.result.w_sum[s], r.M = lanes.M_sum[s], r.W = lanes.W_out[s];
-      if (further) {
-        resampled.chosen = int(lanes.result.chosen[s]);
-        for (int k = 0; k < row.count[s]; ++k)
-          resampled.w[k] = lanes.w[k][s], resampled.p_hat[k] = k == 0 ? lanes.own[0][s] : row.at_combiner[k][s];
-      }
+      if ((picked = n > 1 && chosen >= 0 && r.W > 0.0f))
+        for (int j = 1; j < n; ++j) {
+          picks[j] = int(lanes.picks[j][s]);
+          p_hat[j] = picks[j] == 0 ? lanes.own[0][s] : row.at_combiner[picks[j]][s];
+        }
     }
-    if (further) select_further(view, row, s, row.count[s], resampled, r, further->v[s], i, *further);
+    if (further) write_further(view, row, s, picked ? picks : nullptr, p_hat, r, i, *further);
   }
   return traced;
 }

@@ -127,8 +127,8 @@ constexpr uint64_t spatial_stream(SpatialStream name, int pass) { return uint64_
 // stream. With `history_pixel` (temporal reuse ran), the first pass gives pixels without history
 // disocclusion_neighbours instead. With `further` (DiReuseParams::shaded_samples), each of its n - 1 vectors
 // receives one more sample of every pixel's combination, and the n samples are stratified over the combination's
-// weights (systematic resampling, di_reuse.cpp's select_further); each is the combination's estimator. Cost: a pass
-// over the pixel's inputs' weights per further sample.
+// weights (systematic resampling; in lanes with params.simd: systematic_picks_lanes); each is the combination's
+// estimator. Cost: a pass over the pixel's inputs' weights per further sample.
 void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
                       const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
                       std::vector<DiReservoir>& out, RayCounter& rays,

@@ -1,7 +1,7 @@
 // The resampling kernels (resample_lanes.h), compiled once per instruction set by Highway's foreach_target.h
 // and dispatched at run time. They repeat restir/di_candidates.h's resample_candidates (its light candidates),
-// restir/di_reuse.cpp's pairwise_weight and combine, and Reservoir::update and finalize (restir/reservoir.h),
-// in their order.
+// restir/di_reuse.cpp's pairwise_weight and combine, and Reservoir::update, finalize and systematic_picks
+// (restir/reservoir.h), in their order.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "restir/resample_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -116,6 +116,44 @@ void CombinePairwiseLanes(CombineLanes& lanes, int slots, int max_count, bool vi
   for (int s = 0; s < slots; s += int(hn::Lanes(d))) combine(d, lanes, s, max_count, visibility);
 }
 
+// One vector of slots [s, s + lanes) of systematic_picks: the kept input's start in the running sum and the sum, then
+// per pick its point and the first input k whose interval holds it (w_k > 0 and point < end_k), else the last input
+// with weight (the point beyond the sum by rounding).
+void picks(D d, CombineLanes& c, const float* v, int n, int s, int max_count) {
+  const V zero = hn::Zero(d);
+  const V count = hn::Load(d, c.count + s), chosen = hn::Load(d, c.result.chosen + s);
+  V start = zero, sum = zero, w_chosen = zero;
+  for (int k = 0; k < max_count; ++k) {
+    const M has = hn::Lt(hn::Set(d, float(k)), count), at_chosen = hn::And(has, hn::Eq(hn::Set(d, float(k)), chosen));
+    const V w = hn::Load(d, c.w[k] + s);
+    start = hn::IfThenElse(at_chosen, sum, start);
+    w_chosen = hn::IfThenElse(at_chosen, w, w_chosen);
+    sum = hn::IfThenElse(has, hn::Add(sum, w), sum);
+  }
+  const V first = hn::Add(start, hn::Mul(hn::Load(d, v + s), w_chosen));
+  for (int j = 1; j < n; ++j) {
+    V point = hn::Add(first, hn::Div(hn::Mul(hn::Set(d, float(j)), sum), hn::Set(d, float(n))));
+    point = hn::IfThenElse(hn::Ge(point, sum), hn::Sub(point, sum), point);
+    V end = zero, pick = zero, last = zero;
+    M found = hn::FirstN(d, 0);
+    for (int k = 0; k < max_count; ++k) {
+      const V index = hn::Set(d, float(k)), w = hn::Load(d, c.w[k] + s);
+      const M weighted = hn::And(hn::Lt(index, count), hn::Gt(w, zero));
+      end = hn::Add(end, w);  // w is 0 for the inputs from count on
+      const M here = hn::AndNot(found, hn::And(weighted, hn::Lt(point, end)));
+      pick = hn::IfThenElse(here, index, pick);
+      found = hn::Or(found, here);
+      last = hn::IfThenElse(weighted, index, last);
+    }
+    hn::Store(hn::IfThenElse(found, pick, last), d, c.picks[j] + s);
+  }
+}
+
+void SystematicPicksLanes(CombineLanes& lanes, const float* v, int n, int slots, int max_count) {
+  const D d;
+  for (int s = 0; s < slots; s += int(hn::Lanes(d))) picks(d, lanes, v, n, s, max_count);
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace candela
 HWY_AFTER_NAMESPACE();
@@ -125,6 +163,7 @@ namespace candela {
 
 HWY_EXPORT(CombinePairwiseLanes);
 HWY_EXPORT(ResampleLightCandidatesLanes);
+HWY_EXPORT(SystematicPicksLanes);
 
 void resample_light_candidates_lanes(const CandidateLanes* planes, const float* p_light, const float* u, int count,
                                      const float* M_l, float M_b, int slots, StreamLanes& out) {
@@ -133,6 +172,10 @@ void resample_light_candidates_lanes(const CandidateLanes* planes, const float* 
 
 void combine_pairwise_lanes(CombineLanes& lanes, int slots, int max_count, bool visibility) {
   HWY_DYNAMIC_DISPATCH(CombinePairwiseLanes)(lanes, slots, max_count, visibility);
+}
+
+void systematic_picks_lanes(CombineLanes& lanes, const float* v, int n, int slots, int max_count) {
+  HWY_DYNAMIC_DISPATCH(SystematicPicksLanes)(lanes, v, n, slots, max_count);
 }
 
 }  // namespace candela

@@ -43,6 +43,8 @@ struct CombineLanes {
   StreamLanes result;
   alignas(64) float w[kMaxReuseInputs][kLaneSlots];
   alignas(64) float M_sum[kLaneSlots], W_out[kLaneSlots];
+  // Written by systematic_picks_lanes: sample j's input, j = 1 .. n - 1 (sample 0 is result.chosen).
+  alignas(64) float picks[kMaxShadedSamples][kLaneSlots];
 };
 
 // The combinations of slots [0, slots), each over its count inputs (count >= 1; up to max_count): the pairwise
@@ -51,5 +53,12 @@ struct CombineLanes {
 // With `visibility` every neighbour's term counts only where the sample is visible from its surface.
 // Cost per slot: ~4 divisions and 12 flops per input, in lanes.
 void combine_pairwise_lanes(CombineLanes& lanes, int slots, int max_count, bool visibility);
+
+// systematic_picks (reservoir.h) of the combinations combine_pairwise_lanes streamed, slots [0, slots): n samples of
+// each slot's weights w (its count inputs), the first the kept input result.chosen, the others into picks[1 .. n)
+// (2 <= n <= kMaxShadedSamples), with v[s] the slot's uniform (v 64-byte aligned). The scalar function's operations in
+// its order, so the same picks; slots that kept no input (chosen < 0) get picks nobody may read. Cost per slot: a pass
+// over the weights, and one per pick, in lanes.
+void systematic_picks_lanes(CombineLanes& lanes, const float* v, int n, int slots, int max_count);
 
 }  // namespace candela

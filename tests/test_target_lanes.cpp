@@ -6,6 +6,7 @@
 // fails here.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -471,6 +472,69 @@ TEST(TargetLanes, ShadowRaysGiveTheScalarBits) {
 // alone and with ReSTIR GI (whose reuse shares the code), with pairwise and basic MIS, with 3 shaded samples
 // (the further samples' weights come from the lanes; the images hold their shading), and with 31 neighbours (on the
 // Cornell box, dozens of rows hold a pixel with all 32 inputs: every bit of the rows' masks, counted once by hand).
+// The further samples' picks in lanes (systematic_picks_lanes) against systematic_picks on random combinations: up to
+// 32 inputs with zero, tiny, ordinary, huge and infinite weights (an overflowed m p_hat W; zero from each slot's count
+// on, as combine_pairwise_lanes leaves them), the kept input drawn among those with weight, uniforms up to the largest
+// float below 1, and 2 to 8 samples. Bound: the same picks.
+TEST(TargetLanes, SystematicPicksGiveTheScalarPicks) {
+  auto lanes = std::make_unique<CombineLanes>();
+  Rng rng(4242, 9);
+  alignas(64) float v[kLaneSlots];
+  int compared = 0, apart = 0;  // picks compared, and those that differ from the kept input
+  std::string targets;
+  for (int batch = 0; batch < 400; ++batch) {
+    const int n = 2 + batch % (kMaxShadedSamples - 1);
+    int max_count = 0;
+    for (int s = 0; s < kLaneSlots; ++s) {
+      const int count = 1 + int(rng.next_u32() % kMaxReuseInputs);
+      lanes->count[s] = float(count);
+      max_count = std::max(max_count, count);
+      float sum = 0.0f;
+      for (int k = 0; k < kMaxReuseInputs; ++k) {
+        const float u = rng.next_float();
+        float& w = lanes->w[k][s];
+        w = k >= count || u < 0.3f ? 0.0f
+            : u < 0.31f            ? std::numeric_limits<float>::infinity()
+            : u < 0.35f            ? 1e-30f
+            : u < 0.4f             ? 1e30f
+                                   : rng.next_float();
+        sum += w;
+      }
+      int chosen = -1;  // an input with weight, drawn in proportion to it (none: the kernel's picks are not read)
+      for (float u = rng.next_float() * sum, end = 0.0f, k = 0; sum > 0.0f && k < float(count); ++k)
+        if (end += lanes->w[int(k)][s]; lanes->w[int(k)][s] > 0.0f && u < end) {
+          chosen = int(k);
+          break;
+        }
+      for (int k = count - 1; sum > 0.0f && chosen < 0; --k)
+        if (lanes->w[k][s] > 0.0f) chosen = k;
+      lanes->result.chosen[s] = float(chosen);
+      v[s] = rng.next_float() < 0.05f ? 0x1.fffffep-1f : rng.next_float();
+    }
+    for_each_simd_target([&](const char* target) {
+      if (batch == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
+      systematic_picks_lanes(*lanes, v, n, kLaneSlots, max_count);
+      for (int s = 0; s < kLaneSlots; ++s) {
+        const int chosen = int(lanes->result.chosen[s]);
+        if (chosen < 0) continue;
+        float w[kMaxReuseInputs];
+        for (int k = 0; k < kMaxReuseInputs; ++k) w[k] = lanes->w[k][s];
+        int picks[kMaxShadedSamples];
+        systematic_picks(w, int(lanes->count[s]), chosen, v[s], n, picks);
+        for (int j = 1; j < n; ++j) {
+          ++compared;
+          apart += picks[j] != chosen;
+          EXPECT_EQ(int(lanes->picks[j][s]), picks[j])
+              << target << ", batch " << batch << " slot " << s << " pick " << j;
+        }
+      }
+    });
+    if (::testing::Test::HasFailure()) break;
+  }
+  std::printf("  %d picks compared (%d apart from the kept input) on %s\n", compared, apart, targets.c_str());
+  EXPECT_GT(apart, compared / 4) << "too few picks that leave the kept input to test anything";
+}
+
 TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
   struct Case {
     const char* scene;
@@ -482,7 +546,7 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
   for (const Case& c : {Case{"manylights", "restir-di", "pairwise"}, Case{"cornell", "restir-di", "pairwise"},
                         Case{"city", "restir-di", "pairwise"}, Case{"manylights", "restir-di", "basic"},
                         Case{"cornell", "restir", "pairwise"}, Case{"manylights", "restir", "pairwise", 3},
-                        Case{"cornell", "restir-di", "pairwise", 1, 31}}) {
+                        Case{"cornell", "restir-di", "pairwise", 1, 31}, Case{"city", "restir-di", "pairwise", 2}}) {
     std::vector<DiReservoir> result[2], gi[2];
     Image image[2];
     for (int simd = 0; simd < 2; ++simd) {
