@@ -118,7 +118,7 @@ void CombinePairwiseLanes(CombineLanes& lanes, int slots, int max_count, bool vi
 
 // One vector of slots [s, s + lanes) of systematic_picks: the kept input's start in the running sum and the sum, then
 // per pick its point and the first input k whose interval holds it (w_k > 0 and point < end_k), else the last input
-// with weight (the point beyond the sum by rounding).
+// with weight (no interval holds a NaN point, which an infinite sum of the weights gives).
 void picks(D d, CombineLanes& c, const float* v, int n, int s, int max_count) {
   const V zero = hn::Zero(d);
   const V count = hn::Load(d, c.count + s), chosen = hn::Load(d, c.result.chosen + s);
