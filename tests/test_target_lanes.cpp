@@ -500,13 +500,16 @@ TEST(TargetLanes, SystematicPicksGiveTheScalarPicks) {
                                    : rng.next_float();
         sum += w;
       }
-      int chosen = -1;  // an input with weight, drawn in proportion to it (none: the kernel's picks are not read)
-      for (float u = rng.next_float() * sum, end = 0.0f, k = 0; sum > 0.0f && k < float(count); ++k)
-        if (end += lanes->w[int(k)][s]; lanes->w[int(k)][s] > 0.0f && u < end) {
-          chosen = int(k);
-          break;
-        }
-      for (int k = count - 1; sum > 0.0f && chosen < 0; --k)
+      // An input with weight, drawn in proportion to it, or where the point lies beyond every interval (an infinite
+      // sum) the last one (-1 without weights: the kernel's picks are not read).
+      int chosen = -1;
+      const float point = rng.next_float() * sum;
+      float end = 0.0f;
+      for (int k = 0; sum > 0.0f && chosen < 0 && k < count; ++k) {
+        end += lanes->w[k][s];
+        if (lanes->w[k][s] > 0.0f && point < end) chosen = k;
+      }
+      for (int k = count - 1; sum > 0.0f && chosen < 0 && k >= 0; --k)
         if (lanes->w[k][s] > 0.0f) chosen = k;
       lanes->result.chosen[s] = float(chosen);
       v[s] = rng.next_float() < 0.05f ? 0x1.fffffep-1f : rng.next_float();
