@@ -195,17 +195,16 @@ float mis_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets
   return 0.0f;
 }
 
-// Input k's sample as placed for the combining pixel (input 0), into `here`: re-placed only where input 0's
-// frame placed the lights differently (moving lights, temporal reuse) and its light may have moved (not
-// LightList::fixed). (Written in place: returned by value, the copy stalled on store forwarding in the profile.)
+// Input k's sample as placed for the combining pixel (input 0), into `here`, aged by the input's age_step: re-placed
+// only where input 0's frame placed the lights differently (moving lights, temporal reuse) and its light may have moved
+// (not LightList::fixed). (Written in place: returned by value, the copy stalled on store forwarding in the profile.)
 void place_for_combiner(const SceneView& view, const DiReuseInput& in, const LightList* here_lights, DiSample& here) {
   const DiSample& own = in.reservoir->y;
-  if (&in.domain->lights == here_lights || own.light == kSurfacePointSample || here_lights->fixed(own.light)) {
+  if (&in.domain->lights == here_lights || own.light == kSurfacePointSample || here_lights->fixed(own.light))
     here = own;
-    return;
-  }
-  here = di_resolve(view.scene, *here_lights, own.light, own.uv);
-  here.age = own.age;
+  else
+    here = di_resolve(view.scene, *here_lights, own.light, own.uv);
+  here.age = uint16_t(std::min(int(own.age) + int(in.age_step), 0xffff));
 }
 
 // |J| of moving a surface-point sample's reconnection from `own` to `here` (Ouyang et al. 2021, eq. 11):
@@ -507,12 +506,11 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
     queue.finish();
     return queue.traced();
   };
-  // Per tile row: each pixel's pair of inputs (its reservoir and its history, aged by a frame), then the
+  // Per tile row: each pixel's pair of inputs (its reservoir and its history, whose sample ages by a frame), then the
   // row's combinations.
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     struct Batch {
       ReuseRow row;
-      DiReservoir aged[kLaneSlots];
       ReuseStreams streams;
     };
     thread_local Batch batch;
@@ -537,12 +535,11 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
         const int32_t j = history_pixel[i];
         history_pixel[i] = -1;
         if (j < 0) continue;
-        DiReservoir& aged = batch.aged[s];
-        aged = history[size_t(j)];
-        aged.y.age = uint16_t(std::min(aged.y.age + 1, 0xffff));
-        if (params.max_sample_age > 0 && aged.y.age > params.max_sample_age) continue;
+        const DiReservoir& old = history[size_t(j)];
+        if (params.max_sample_age > 0 && std::min(old.y.age + 1, 0xffff) > params.max_sample_age) continue;
         batch.row.inputs[0][s] = {&reservoirs[i], &current, i, reservoirs[i].M};
-        batch.row.inputs[1][s] = {&aged, &previous, size_t(j), std::min(aged.M, params.history_cap * reservoirs[i].M)};
+        batch.row.inputs[1][s] = {&old, &previous, size_t(j), std::min(old.M, params.history_cap * reservoirs[i].M)};
+        batch.row.inputs[1][s].age_step = 1;  // last frame's sample is a frame older where this frame reuses it
         batch.row.count[s] = 2;
         history_pixel[i] = int32_t(j);
       }

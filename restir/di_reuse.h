@@ -79,6 +79,7 @@ struct DiReuseInput {
   float M;                  // confidence used for this input (capped for history)
   int8_t own_visible = -1;  // 1 or 0: whether the reservoir's sample is visible from its own surface, when
                             // known already; -1: a ray finds out if a weight needs it
+  uint8_t age_step = 0;     // frames its sample ages by entering the combination (1 for last frame's history)
 };
 
 // Whether surface b may share samples with surface a (shading normal a_n, decoded by the caller once for

@@ -279,6 +279,36 @@ TEST(RestirDiReuse, VisibilityReuseSavesShadowRays) {
   EXPECT_LT(rel_mse, 0.01);
 }
 
+// Temporal reuse ages last frame's sample by a frame each time it carries it on (DiReuseInput::age_step); spatial
+// reuse keeps ages. On a still camera samples grow older than a frame but none older than the frames rendered, and with
+// max_sample_age none older than the limit (temporal reuse drops older history).
+TEST(RestirDiReuse, HistorySamplesAgeByAFramePerReuse) {
+  Scene scene = make_manylights_scene(256, 7);
+  constexpr int kFrames = 6;
+  // The oldest sample of the final reservoirs with max_sample_age `limit`, and how many are at least 2 frames old.
+  auto oldest = [&](int limit, int& aged) {
+    RenderSettings s = restir_settings(64, 36, 3);
+    s.di_reuse.max_sample_age = limit;
+    Renderer renderer(scene, s);
+    for (int frame = 0; frame < kFrames; ++frame)
+      testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
+    int age = 0;
+    aged = 0;
+    for (const DiReservoir& r : renderer.di_reservoirs())
+      if (r.W > 0.0f) age = std::max(age, int(r.y.age)), aged += r.y.age >= 2;
+    return age;
+  };
+  int aged = 0;
+  const int unlimited = oldest(0, aged);
+  std::printf("oldest sample after %d frames: %d (%d samples at least 2 frames old)\n", kFrames, unlimited, aged);
+  EXPECT_GE(unlimited, 3);
+  EXPECT_LE(unlimited, kFrames - 1);
+  EXPECT_GT(aged, 0);
+  const int limited = oldest(2, aged);
+  std::printf("with max_sample_age 2: %d (%d at least 2 frames old)\n", limited, aged);
+  EXPECT_EQ(limited, 2);
+}
+
 // Every spatial pass (up to the option's 8) draws from streams no other pass or name uses, nor the candidates' (0xd1)
 // and temporal reuse's (0xd2), ReSTIR GI's first rays' (0x61) or the light tiles' (0x7e).
 TEST(RestirDiReuse, SpatialPassesHaveStreamsOfTheirOwn) {
