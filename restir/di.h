@@ -7,6 +7,7 @@
 // lifetime (LightList keeps one per emitting triangle of each instance and per punctual light), so a
 // sample's identity needs no remap between frames, and a light that moved, dimmed or went dark is simply
 // re-evaluated where it is now.
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -33,6 +34,9 @@ struct DiSample {
 // are never re-placed, and `uv` holds a random tag that tells two of them apart.
 inline constexpr uint32_t kSurfacePointSample = 0xffffffffu;
 using DiReservoir = Reservoir<DiSample>;
+
+// A sample's age after `frames` more frames (saturating at the field's largest value).
+inline uint16_t di_aged(uint16_t age, int frames) { return uint16_t(std::min(int(age) + frames, 0xffff)); }
 
 struct DiParams {
   // M_l: candidates per pixel from the light sampler (cost: M_l light samples + BSDF evaluations); 4 beat 8 at
@@ -94,6 +98,13 @@ inline DiSample di_resolve(const Scene& scene, const LightList& lights, uint32_t
   DiSample s{light, uv, {}, 0};
   if (light < lights.triangle_count()) s.point = lights.triangle_point(scene, light, uv);
   return s;
+}
+
+// Whether sample s, stored with the point the lights `own` (its frame's) gave it, has that point under the lights
+// `here` too: the same list, a light no frame moves or dims (LightList::fixed, to the bit), or a surface point (never
+// re-placed). Reuse places the others anew on `here` (di_resolve).
+inline bool di_placed_alike(const LightList& own, const LightList& here, const DiSample& s) {
+  return &own == &here || s.light == kSurfacePointSample || here.fixed(s.light);
 }
 
 // Density of a fresh light sample over its light's area given the light was chosen (1 for delta lights).

@@ -36,8 +36,8 @@ const std::vector<vec2>& neighbour_offsets() {
 }
 
 // A sample of input k as seen by the receiver of input z: samples hold their point as placed in their
-// own frame; only where z's frame placed the lights differently (moving lights, temporal reuse) is the
-// point re-placed, and only on a light that may have moved (LightList::fixed: the others' points are the same bits).
+// own frame; it is re-placed only where z's frame's lights do not place it alike (di_placed_alike: moving lights,
+// temporal reuse).
 struct PlacedSample {
   const DiSample& own;  // as stored by its input
   const LightList* own_lights;
@@ -45,7 +45,7 @@ struct PlacedSample {
   const LightList* here_lights;
   const DiSample& at(const LightList* lights, const Scene& scene, DiSample& scratch) const {
     if (lights == here_lights) return here;
-    if (lights == own_lights || own.light == kSurfacePointSample || lights->fixed(own.light)) return own;
+    if (di_placed_alike(*own_lights, *lights, own)) return own;
     scratch = di_resolve(scene, *lights, own.light, own.uv);
     return scratch;
   }
@@ -196,15 +196,15 @@ float mis_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets
 }
 
 // Input k's sample as placed for the combining pixel (input 0), into `here`, aged by the input's age_step: re-placed
-// only where input 0's frame placed the lights differently (moving lights, temporal reuse) and its light may have moved
-// (not LightList::fixed). (Written in place: returned by value, the copy stalled on store forwarding in the profile.)
+// only where input 0's frame's lights do not place it alike (di_placed_alike: moving lights, temporal reuse). (Written
+// in place: returned by value, the copy stalled on store forwarding in the profile.)
 void place_for_combiner(const SceneView& view, const DiReuseInput& in, const LightList* here_lights, DiSample& here) {
   const DiSample& own = in.reservoir->y;
-  if (&in.domain->lights == here_lights || own.light == kSurfacePointSample || here_lights->fixed(own.light))
+  if (di_placed_alike(in.domain->lights, *here_lights, own))
     here = own;
   else
     here = di_resolve(view.scene, *here_lights, own.light, own.uv);
-  here.age = uint16_t(std::min(int(own.age) + int(in.age_step), 0xffff));
+  here.age = di_aged(own.age, in.age_step);
 }
 
 // |J| of moving a surface-point sample's reconnection from `own` to `here` (Ouyang et al. 2021, eq. 11):
@@ -536,7 +536,7 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
         history_pixel[i] = -1;
         if (j < 0) continue;
         const DiReservoir& old = history[size_t(j)];
-        if (params.max_sample_age > 0 && std::min(old.y.age + 1, 0xffff) > params.max_sample_age) continue;
+        if (params.max_sample_age > 0 && di_aged(old.y.age, 1) > params.max_sample_age) continue;
         batch.row.inputs[0][s] = {&reservoirs[i], &current, i, reservoirs[i].M};
         batch.row.inputs[1][s] = {&old, &previous, size_t(j), std::min(old.M, params.history_cap * reservoirs[i].M)};
         batch.row.inputs[1][s].age_step = 1;  // last frame's sample is a frame older where this frame reuses it

@@ -9,24 +9,23 @@ namespace candela {
 
 namespace {
 
-// Whether set_placed places input k of slot s anew on `lights`: a triangle light's sample from a frame whose lights
-// are another list, where the light may have moved (not LightList::fixed). Its light record is then read, which on
-// `city` (104k lights) misses the cache: prefetch_placed starts those loads for a whole row first.
+// Whether set_placed places input k of slot s anew on `lights`: a triangle light's sample that `lights` does not place
+// as its own frame did (di_placed_alike). Its light record is then read, which on `city` (104k lights) misses the
+// cache: prefetch_placed starts those loads for a whole row first.
 bool placed_anew(const ReuseRow& row, int k, int s, const LightList& lights) {
   const DiReuseInput& in = row.inputs[k][s];
-  const uint32_t light = in.reservoir->y.light;
-  return (row.sampled[s] >> k & 1u) && light < lights.triangle_count() && &in.domain->lights != &lights &&
-         !lights.fixed(light);
+  const DiSample& y = in.reservoir->y;
+  return (row.sampled[s] >> k & 1u) && y.light < lights.triangle_count() &&
+         !di_placed_alike(in.domain->lights, lights, y);
 }
 void prefetch_placed(const ReuseRow& row, int k, int s, const LightList& lights) {
   if (placed_anew(row, k, s, lights)) lights.prefetch(row.inputs[k][s].reservoir->y.light);
 }
 
 // Slot s of `plane`: input k's sample as receivers whose frame placed the lights as `lights` did see it
-// (PlacedSample::at in di_reuse.cpp): the point it stores where its own frame placed them alike (the same list, or a
-// fixed light), or where it is a surface point; otherwise the point its uniforms give on its light as `lights` placed
-// it. Inactive
-// where the input has no sample and for punctual lights (left to the scalar path).
+// (PlacedSample::at in di_reuse.cpp): the point it stores where `lights` places it alike (di_placed_alike), otherwise
+// the point its uniforms give on its light as `lights` placed it. Inactive where the input has no sample and for
+// punctual lights (left to the scalar path).
 void set_placed(const Scene& scene, const ReuseRow& row, int k, int s, const LightList& lights, CandidateLanes& plane) {
   const DiSample& y = row.inputs[k][s].reservoir->y;
   if (placed_anew(row, k, s, lights))
