@@ -47,9 +47,17 @@ inline RoughnessTerms roughness_terms(D d, V roughness) {
   // Clamped below too, as albedo_at's column (a NaN roughness in a lane nobody reads).
   const VI k = hn::Max(hn::Min(hn::ConvertTo(di, x), hn::Set(di, kGgxAlbedoRoughnessCount - 2)), hn::Zero(di));
   const V row_weight = hn::Sub(x, hn::ConvertTo(d, k));
+  // The row's and the next row's averages: one row for every lane (one roughness across the vector) reads them
+  // once, else they are gathered.
   V avg_a0, avg_b0, avg_a1, avg_b1;
-  gather_pairs(d, kGgxAlbedoAveragePairs, k, avg_a0, avg_b0);
-  gather_pairs(d, kGgxAlbedoAveragePairs, hn::Add(k, hn::Set(di, 1)), avg_a1, avg_b1);
+  const int32_t k0 = hn::GetLane(k);
+  if (hn::AllTrue(di, hn::Eq(k, hn::Set(di, k0)))) {
+    const float* avg = kGgxAlbedoAverages + 2 * k0;
+    avg_a0 = hn::Set(d, avg[0]), avg_b0 = hn::Set(d, avg[1]), avg_a1 = hn::Set(d, avg[2]), avg_b1 = hn::Set(d, avg[3]);
+  } else {
+    gather_pairs(d, kGgxAlbedoAveragePairs, k, avg_a0, avg_b0);
+    gather_pairs(d, kGgxAlbedoAveragePairs, hn::Add(k, hn::Set(di, 1)), avg_a1, avg_b1);
+  }
   return {hn::Mul(r, r), row_weight, hn::Add(avg_a0, hn::Mul(row_weight, hn::Sub(avg_a1, avg_a0))),
           hn::Add(avg_b0, hn::Mul(row_weight, hn::Sub(avg_b1, avg_b0))),
           hn::Mul(k, hn::Set(di, kGgxAlbedoMuCount * 2))};

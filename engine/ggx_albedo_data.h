@@ -15,5 +15,10 @@ extern const float kGgxAlbedoAverages[kGgxAlbedoRoughnessCount * 2];  // (a_avg,
 // fetch a pair with one 64-bit gather instead of two 32-bit ones (engine/lanes-inl.h gather_pairs).
 extern const uint64_t kGgxAlbedoEntryPairs[kGgxAlbedoRoughnessCount * kGgxAlbedoMuCount];
 extern const uint64_t kGgxAlbedoAveragePairs[kGgxAlbedoRoughnessCount];
+// kGgxAlbedoEntries again with each roughness row's a values first, then its b values (row k's a(mu_j) at
+// [k * 2 * kGgxAlbedoMuCount + j], its b(mu_j) kGgxAlbedoMuCount later: row k starts where it starts in
+// kGgxAlbedoEntries), each row on a 64-byte line, for SIMD kernels that load a whole row into registers
+// (engine/lanes-inl.h albedo_corners).
+alignas(64) extern const float kGgxAlbedoRowPlanes[kGgxAlbedoRoughnessCount * kGgxAlbedoMuCount * 2];
 
 }  // namespace candela

@@ -99,6 +99,13 @@ int main() {
     std::printf("0x%016llxull,%s", pair_bits(entries[e]), e % 4 == 3 ? "\n" : " ");
   std::printf("};\n\nconst uint64_t kGgxAlbedoAveragePairs[%d] = {\n", kRough);
   for (const Albedo& avg : averages) std::printf("0x%016llxull,\n", pair_bits(avg));
+  std::printf("};\n\nalignas(64) const float kGgxAlbedoRowPlanes[%d] = {\n", kRough * kMu * 2);
+  for (int k = 0; k < kRough; ++k) {
+    for (int j = 0; j < kMu; ++j)
+      std::printf("%.9gf,%s", float(entries[size_t(k * kMu + j)].a), j % 8 == 7 ? "\n" : " ");
+    for (int j = 0; j < kMu; ++j)
+      std::printf("%.9gf,%s", float(entries[size_t(k * kMu + j)].b), j % 8 == 7 ? "\n" : " ");
+  }
   std::printf("};\n\n}  // namespace candela\n");
   return 0;
 }

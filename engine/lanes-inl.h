@@ -108,6 +108,39 @@ inline void gather_pairs(D d, const uint64_t* table, VI index, V& low, V& high) 
   high = hn::BitCast(d, hn::ConcatOdd(du, upper, lower));
 }
 
+// albedo_at's eight corner values (rows k and k + 1 at columns j and j + 1, a and b of each) into
+// corner[2 p] (column j) and corner[2 p + 1] (column j + 1) of plane p: row k's a, row k's b, row k + 1's a, row
+// k + 1's b. Where every lane reads one row (one roughness across the vector, as along a tile row of one material)
+// on a 16-lane target, that row's four planes (kGgxAlbedoRowPlanes, 32 floats each) are loaded and each corner is
+// an in-register lookup by j: 8 loads and 16 permutes instead of 8 gathers of 8 elements. Elsewhere the corners are
+// gathered (also where the lanes read two or three rows: a pass per row and the blends cost more than the gathers,
+// measured). Either way each lane gets the table's values.
+inline void albedo_corners(D d, VI row, VI j, V corner[8]) {
+  const DI di;
+  if constexpr (hn::MaxLanes(D()) == 16 && kGgxAlbedoMuCount == 32) {
+    const int32_t offset = hn::GetLane(row);
+    if (hn::AllTrue(di, hn::Eq(row, hn::Set(di, offset)))) {
+      // Entry c (0-31) of a plane: lane c & 15 of its first or its second half.
+      const VI j1 = hn::Add(j, hn::Set(di, 1)), fifteen = hn::Set(di, 15), sixteen = hn::Set(di, 16);
+      const auto i0 = hn::IndicesFromVec(d, hn::And(j, fifteen)), i1 = hn::IndicesFromVec(d, hn::And(j1, fifteen));
+      const M low0 = hn::RebindMask(d, hn::Lt(j, sixteen)), low1 = hn::RebindMask(d, hn::Lt(j1, sixteen));
+      for (int p = 0; p < 4; ++p) {
+        const float* plane = kGgxAlbedoRowPlanes + offset + p * kGgxAlbedoMuCount;
+        const V first = hn::Load(d, plane), second = hn::Load(d, plane + 16);
+        corner[2 * p] = hn::IfThenElse(low0, hn::TableLookupLanes(first, i0), hn::TableLookupLanes(second, i0));
+        corner[2 * p + 1] = hn::IfThenElse(low1, hn::TableLookupLanes(first, i1), hn::TableLookupLanes(second, i1));
+      }
+      return;
+    }
+  }
+  const VI p0 = hn::Add(hn::ShiftRight<1>(row), j), p1 = hn::Add(p0, hn::Set(di, kGgxAlbedoMuCount));
+  const VI one = hn::Set(di, 1);
+  gather_pairs(d, kGgxAlbedoEntryPairs, p0, corner[0], corner[2]);
+  gather_pairs(d, kGgxAlbedoEntryPairs, hn::Add(p0, one), corner[1], corner[3]);
+  gather_pairs(d, kGgxAlbedoEntryPairs, p1, corner[4], corner[6]);
+  gather_pairs(d, kGgxAlbedoEntryPairs, hn::Add(p1, one), corner[5], corner[7]);
+}
+
 // GgxAlbedoRow::at: the (a, b) albedo pair at cos_theta, bilinear in sqrt(mu) and roughness, from the
 // row offset (in floats of kGgxAlbedoEntries) and weight of the receiver's roughness.
 inline void albedo_at(D d, V cos_theta, VI row, V weight, V& a, V& b) {
@@ -117,13 +150,11 @@ inline void albedo_at(D d, V cos_theta, VI row, V weight, V& a, V& b) {
   // Clamped below too: a NaN cosine (a lane nobody reads) converts to INT_MIN, which must stay a valid index.
   const VI j = hn::Max(hn::Min(hn::ConvertTo(di, x), hn::Set(di, kGgxAlbedoMuCount - 2)), hn::Zero(di));
   const V s = hn::Sub(x, hn::ConvertTo(d, j));
-  // The four pairs around (row, j), as kGgxAlbedoEntryPairs indices.
-  const VI p0 = hn::Add(hn::ShiftRight<1>(row), j), p1 = hn::Add(p0, hn::Set(di, kGgxAlbedoMuCount));
-  V a00, b00, a01, b01, a10, b10, a11, b11;
-  gather_pairs(d, kGgxAlbedoEntryPairs, p0, a00, b00);
-  gather_pairs(d, kGgxAlbedoEntryPairs, hn::Add(p0, hn::Set(di, 1)), a01, b01);
-  gather_pairs(d, kGgxAlbedoEntryPairs, p1, a10, b10);
-  gather_pairs(d, kGgxAlbedoEntryPairs, hn::Add(p1, hn::Set(di, 1)), a11, b11);
+  // The four pairs around (row, j).
+  V corner[8];
+  albedo_corners(d, row, j, corner);
+  const V a00 = corner[0], a01 = corner[1], b00 = corner[2], b01 = corner[3];
+  const V a10 = corner[4], a11 = corner[5], b10 = corner[6], b11 = corner[7];
   const V a0 = hn::Add(a00, hn::Mul(s, hn::Sub(a01, a00))), b0 = hn::Add(b00, hn::Mul(s, hn::Sub(b01, b00)));
   const V a1 = hn::Add(a10, hn::Mul(s, hn::Sub(a11, a10))), b1 = hn::Add(b10, hn::Mul(s, hn::Sub(b11, b10)));
   a = hn::Add(a0, hn::Mul(weight, hn::Sub(a1, a0)));

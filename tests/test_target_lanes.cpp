@@ -87,6 +87,9 @@ TEST(TargetLanes, KernelGivesTheScalarBitsOnRandomInputs) {
   int compared = 0, positive = 0, batches = 0;
   std::string targets;
   for (; batches < 200; ++batches) {
+    // Odd batches give every slot one roughness: the albedo lookups read their table rows from registers then
+    // (albedo_corners), else they gather.
+    const float batch_roughness = rng.next_float();
     for (int s = 0; s < kLaneSlots; ++s) {
       DiCandidateBatch::Slot& b = lanes->slot[s];
       b.hit = true;
@@ -96,7 +99,7 @@ TEST(TargetLanes, KernelGivesTheScalarBitsOnRandomInputs) {
       if (rng.next_float() < 0.8f && glm::dot(wo, n) < 0.0f) wo = -wo;  // mostly lit from the eye's side
       const vec3 base(rng.next_float(), rng.next_float(), rng.next_float());
       const float metallic = rng.next_float() < 0.3f ? 1.0f : rng.next_float();
-      const float roughness = rng.next_float() < 0.2f ? 0.0f : rng.next_float();
+      const float roughness = batches % 2 ? batch_roughness : rng.next_float() < 0.2f ? 0.0f : rng.next_float();
       const Bsdf bsdf(n, base, metallic, roughness, rng.next_float(), vec3(0.02f + 0.1f * rng.next_float()));
       const Bsdf exact(glm::normalize(n + 0.01f * random_unit(rng)), base, metallic, roughness);
       b.target = {p, ng, n, wo, bsdf, &lights};
@@ -161,6 +164,7 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
   std::string targets;
   for (int batch = 0; batch < 100; ++batch) {
     const vec3 eye = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 6.0f;
+    const uint32_t batch_roughness = byte();  // every slot's in odd batches (albedo_corners' in-register path)
     for (int s = 0; s < kLaneSlots; ++s) {
       PackedSurface& surface = surfaces[size_t(s)];
       surface.position = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 4.0f;
@@ -169,6 +173,7 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
       surface.geometric_normal = oct_encode(random_unit(rng));
       surface.albedo = byte() | byte() << 8 | byte() << 16;
       surface.material = byte() | byte() << 8 | byte() << 16 | byte() << 24;
+      if (batch % 2) surface.material = (surface.material & ~0xffu) | batch_roughness;
       packed->set(s, surface);
     }
     const DiDomain domain{surfaces, kLaneSlots, 1, eye, lights};
@@ -258,12 +263,14 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
   int compared = 0, lit = 0, contributing = 0;
   for (int batch = 0; batch < 100; ++batch) {
     const vec3 eye = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 6.0f;
+    const float batch_roughness = factor();  // every slot's in odd batches (albedo_corners' in-register path)
     for (int s = 0; s < kLaneSlots; ++s) {
       g.position[size_t(s)] = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 4.0f;
       g.shading_normal[size_t(s)] = random_unit(rng);
       g.geometric_normal[size_t(s)] = random_unit(rng);
       g.albedo[size_t(s)] = vec3(factor(), factor(), factor());
       g.material[size_t(s)] = vec3(factor(), factor(), factor());
+      if (batch % 2) g.material[size_t(s)].x = batch_roughness;  // x: the roughness
       g.specular_f0[size_t(s)] = vec3(factor(), factor(), factor());
       g.instance[size_t(s)] = 0;
       const DiReceiver& r = receivers[size_t(s)] = di_exact_receiver(g, eye, lights, size_t(s));
