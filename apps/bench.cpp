@@ -49,6 +49,11 @@ void add_bench_options(CLI::App& app, BenchOptions& o) {
   app.add_option("--repetitions", o.repetitions, "Repetitions; the summary quotes medians")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
+  app.add_option("--time-step", o.time_step,
+                 "restir: scene seconds between frames, so that animated lights and instances move (the camera "
+                 "stays still; 0: every frame at time 0)")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
   app.add_option("--filter", o.filter, "Regular expression selecting benchmarks by name")->capture_default_str();
 }
 

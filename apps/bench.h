@@ -22,6 +22,7 @@ struct BenchOptions {
   int threads = 0;
   double min_time = 0.5;
   int repetitions = 3;
+  double time_step = 0.0;  // restir: scene seconds between frames (0: every frame at time 0, a still scene)
   std::string filter = ".";
 };
 

@@ -1,6 +1,7 @@
 // `candela bench --suite restir`: one ReSTIR DI frame with the default parameters (light candidates from the
 // default sampler, `auto`: the light tree's region tiles for restir-di, the power sampler for restir; temporal and one
-// spatial pass, pairwise MIS, two shaded samples per pixel), still camera, after 8 warm-up frames; next to it, the
+// spatial pass, pairwise MIS, two shaded samples per pixel), still camera, after 8 warm-up frames (all at scene time
+// 0, or with --time-step frame n at n steps: animated lights and instances move); next to it, the
 // same frame's rays traced alone: its primary rays (4x4 packets through pixel centres), its BSDF-candidate rays and
 // its shadow rays (single rays), generated before the clock starts. Then the whole ReSTIR frame, DI + GI (`--method
 // restir`, paths up to 8 bounces), with its stages. For both methods, a frame's own queries recorded
@@ -30,12 +31,19 @@ struct RestirBenchScene {
   std::unique_ptr<Renderer> renderer;
   CameraDesc camera;
   int frame = 0;
+  double time_step = 0.0;  // --time-step: frame n is rendered at scene time n * time_step
   std::vector<Ray> bsdf_rays, shadow_rays;
   RayLog log;                                           // one frame's queries, after the warm-up
   uint64_t frame_rays = 0;                              // the rays that frame counted in its stats
   std::map<std::string, std::vector<double>> stage_ms;  // per stage, one entry per measured frame
   std::string name;
 };
+
+// The next frame, at its scene time.
+FrameStats render_next(RestirBenchScene& s) {
+  const int frame = s.frame++;
+  return s.renderer->render_frame(frame, float(frame * s.time_step), s.camera);
+}
 
 // The rays of the renderer's last frame, rebuilt from its G-buffer and final reservoirs: per hit pixel one
 // BSDF-sampled ray (what each BSDF candidate traces) and one shadow ray to the final sample.
@@ -73,7 +81,7 @@ uint64_t trace_alone(const RestirBenchScene& s) {
 // One more frame with its ray queries recorded into s.log.
 void record_frame(RestirBenchScene& s) {
   s.renderer->set_ray_log(&s.log);
-  s.frame_rays = s.renderer->render_frame(s.frame++, 0.0f, s.camera).rays();
+  s.frame_rays = render_next(s).rays();
   s.renderer->set_ray_log(nullptr);
 }
 
@@ -115,7 +123,7 @@ void print_interleaved_ratios(RestirBenchScene& s, int rounds) {
   const bool di = s.method == Method::RestirDi;
   std::vector<double> replayed, alone;
   for (int round = 0; round < rounds; ++round) {
-    const double frame = time_ms([&] { s.renderer->render_frame(s.frame++, 0.0f, s.camera); });
+    const double frame = time_ms([&] { render_next(s); });
     replayed.push_back(frame / time_ms([&] { s.log.replay(s.renderer->tracer()); }));
     if (di) alone.push_back(frame / time_ms([&] { benchmark::DoNotOptimize(trace_alone(s)); }));
   }
@@ -142,7 +150,8 @@ std::unique_ptr<RestirBenchScene> warm_scene(const std::string& source, Method m
   Scene scene = load_scene(source);
   s->camera = scene.default_camera();
   s->renderer = std::make_unique<Renderer>(std::move(scene), settings);
-  for (; s->frame < 8; ++s->frame) s->renderer->render_frame(s->frame, 0.0f, s->camera);
+  s->time_step = o.time_step;
+  while (s->frame < 8) render_next(*s);
   return s;
 }
 
@@ -157,7 +166,7 @@ int run_restir_bench(const BenchOptions& o) {
       RestirBenchScene* p = scenes.back().get();
       const std::string prefix = method == Method::Restir ? "restir_" : "restir_di_";
       register_rays_benchmark(prefix + "frame/" + p->name, o, [p] {
-        FrameStats stats = p->renderer->render_frame(p->frame++, 0.0f, p->camera);
+        FrameStats stats = render_next(*p);
         for (const StageStats& stage : stats.stages) p->stage_ms[stage.name].push_back(stage.ms);
         return stats.rays();
       });
@@ -173,6 +182,9 @@ int run_restir_bench(const BenchOptions& o) {
 
   std::printf("\nSummary at %dx%d (medians of %d repetitions; stages: medians over all measured frames), ms:\n",
               o.width, o.height, o.repetitions);
+  if (o.time_step > 0.0)
+    std::printf("Frame n at scene time n x %g s: animated lights and instances move, the camera stays still.\n",
+                o.time_step);
   for (const auto& s : scenes) {
     const bool di = s->method == Method::RestirDi;
     double frame =
