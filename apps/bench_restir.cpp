@@ -204,6 +204,9 @@ int run_restir_bench(const BenchOptions& o) {
     std::printf("\n");
     print_stage_replays(*s);
     print_interleaved_ratios(*s, 7);
+    if (s->time_step > 0.0)
+      std::printf("%-30s %d frames rendered, the last at scene time %.2f s\n", "", s->frame,
+                  (s->frame - 1) * s->time_step);
   }
   return 0;
 }
