@@ -17,7 +17,7 @@ extern const uint64_t kGgxAlbedoEntryPairs[kGgxAlbedoRoughnessCount * kGgxAlbedo
 extern const uint64_t kGgxAlbedoAveragePairs[kGgxAlbedoRoughnessCount];
 // kGgxAlbedoEntries again with each roughness row's a values first, then its b values (row k's a(mu_j) at
 // [k * 2 * kGgxAlbedoMuCount + j], its b(mu_j) kGgxAlbedoMuCount later: row k starts where it starts in
-// kGgxAlbedoEntries), each row on a 64-byte line, for SIMD kernels that load a whole row into registers
+// kGgxAlbedoEntries), each row starting on a 64-byte boundary, for SIMD kernels that load a whole row into registers
 // (engine/lanes-inl.h albedo_corners).
 alignas(64) extern const float kGgxAlbedoRowPlanes[kGgxAlbedoRoughnessCount * kGgxAlbedoMuCount * 2];
 
