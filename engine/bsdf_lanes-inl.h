@@ -50,8 +50,8 @@ inline RoughnessTerms roughness_terms(D d, V roughness) {
   // The row's and the next row's averages: one row for every lane (one roughness across the vector) reads them
   // once, else they are gathered.
   V avg_a0, avg_b0, avg_a1, avg_b1;
-  const int32_t k0 = hn::GetLane(k);
-  if (hn::AllTrue(di, hn::Eq(k, hn::Set(di, k0)))) {
+  int32_t k0;
+  if (same_in_every_lane(k, k0)) {
     const float* avg = kGgxAlbedoAverages + 2 * k0;
     avg_a0 = hn::Set(d, avg[0]), avg_b0 = hn::Set(d, avg[1]), avg_a1 = hn::Set(d, avg[2]), avg_b1 = hn::Set(d, avg[3]);
   } else {

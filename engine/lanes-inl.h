@@ -108,6 +108,13 @@ inline void gather_pairs(D d, const uint64_t* table, VI index, V& low, V& high) 
   high = hn::BitCast(d, hn::ConcatOdd(du, upper, lower));
 }
 
+// Whether every lane of v holds lane 0's value, which goes to `first` (a vector of pixels that share one table row).
+inline bool same_in_every_lane(VI v, int32_t& first) {
+  const DI di;
+  first = hn::GetLane(v);
+  return hn::AllTrue(di, hn::Eq(v, hn::Set(di, first)));
+}
+
 // albedo_at's eight corner values (rows k and k + 1 at columns j and j + 1, a and b of each) into
 // corner[2 p] (column j) and corner[2 p + 1] (column j + 1) of plane p: row k's a, row k's b, row k + 1's a, row
 // k + 1's b. Where every lane reads one row (one roughness across the vector, as along a tile row of one material)
@@ -118,8 +125,8 @@ inline void gather_pairs(D d, const uint64_t* table, VI index, V& low, V& high) 
 inline void albedo_corners(D d, VI row, VI j, V corner[8]) {
   const DI di;
   if constexpr (hn::MaxLanes(D()) == 16 && kGgxAlbedoMuCount == 32) {
-    const int32_t offset = hn::GetLane(row);
-    if (hn::AllTrue(di, hn::Eq(row, hn::Set(di, offset)))) {
+    int32_t offset;
+    if (same_in_every_lane(row, offset)) {
       // Entry c (0-31) of a plane: lane c & 15 of its first or its second half.
       const VI j1 = hn::Add(j, hn::Set(di, 1)), fifteen = hn::Set(di, 15), sixteen = hn::Set(di, 16);
       const auto i0 = hn::IndicesFromVec(d, hn::And(j, fifteen)), i1 = hn::IndicesFromVec(d, hn::And(j1, fifteen));

@@ -535,11 +535,12 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
         const int32_t j = history_pixel[i];
         history_pixel[i] = -1;
         if (j < 0) continue;
+        constexpr uint8_t kAgeStep = 1;  // last frame's sample is a frame older where this frame reuses it
         const DiReservoir& old = history[size_t(j)];
-        if (params.max_sample_age > 0 && di_aged(old.y.age, 1) > params.max_sample_age) continue;
+        if (params.max_sample_age > 0 && di_aged(old.y.age, kAgeStep) > params.max_sample_age) continue;
         batch.row.inputs[0][s] = {&reservoirs[i], &current, i, reservoirs[i].M};
         batch.row.inputs[1][s] = {&old, &previous, size_t(j), std::min(old.M, params.history_cap * reservoirs[i].M)};
-        batch.row.inputs[1][s].age_step = 1;  // last frame's sample is a frame older where this frame reuses it
+        batch.row.inputs[1][s].age_step = kAgeStep;
         batch.row.count[s] = 2;
         history_pixel[i] = int32_t(j);
       }
