@@ -8,9 +8,9 @@
 // 256 MB touch loop, 2026-12-02: 720 ms on 4 KB pages, 17-20 ms on huge pages). Fewer pages could also
 // mean fewer TLB misses; the tree's sampling bench showed no change from it.
 //
-// What: a request of kHugeFrom bytes or more is rounded up to whole 2 MB pages, allocated 2 MB-aligned and
-// advised MADV_HUGEPAGE before anyone touches it (madvise is advice: where the kernel declines, the memory
-// is ordinary). Smaller requests go to malloc as before. Everything is released with free().
+// What: a request on_huge_pages accepts (2 MB or more, at most half of it wasted) is rounded up to whole 2 MB
+// pages, allocated 2 MB-aligned and advised MADV_HUGEPAGE before anyone touches it (madvise is advice: where the
+// kernel declines, the memory is ordinary). Other requests go to malloc as before. Everything is released with free().
 //
 // Not compiled into the sanitizer and fuzzing builds (engine/CMakeLists.txt): their runtimes replace
 // operator new themselves to check every allocation.
@@ -23,14 +23,18 @@
 namespace {
 
 constexpr size_t kHugePage = size_t(2) << 20;
-// Smaller requests could waste up to half their memory in the rounding. The tree's arrays from about 1e5
-// lights, the reservoirs of a 640x360 frame and vec3 planes from 1280x720 up are above this.
-constexpr size_t kHugeFrom = 4 * kHugePage;
 
 size_t round_up(size_t bytes, size_t multiple) { return (bytes + multiple - 1) / multiple * multiple; }
 
+// From one huge page up, where rounding up to whole pages wastes at most half the request (from 2.67 MB; every
+// request from 4 MB). The planes of a 640x360 frame qualify: vec3 planes (2.8 MB) and packed surfaces (7.4 MB), which
+// the reuse stages read at scattered pixels. Until 2026-12-06 the bound was 8 MB, which left them on 4 KB pages:
+// moving them cut the history searches to ~0.9x and temporal and spatial reuse to ~0.97-0.98x (ab_stats, restir-di
+// on manylights; docs/performance.md, "ReSTIR frame time").
+bool on_huge_pages(size_t bytes) { return bytes >= kHugePage && round_up(bytes, kHugePage) - bytes <= bytes / 2; }
+
 void* try_allocate(size_t bytes, size_t alignment) {
-  if (bytes >= kHugeFrom) {
+  if (on_huge_pages(bytes)) {
     const size_t page = std::max(kHugePage, alignment);
     const size_t rounded = round_up(bytes, page);
     void* p = std::aligned_alloc(page, rounded);
