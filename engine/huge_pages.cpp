@@ -26,11 +26,11 @@ constexpr size_t kHugePage = size_t(2) << 20;
 
 size_t round_up(size_t bytes, size_t multiple) { return (bytes + multiple - 1) / multiple * multiple; }
 
-// From one huge page up, where rounding up to whole pages wastes at most half the request (from 2.67 MB; every
-// request from 4 MB). The planes of a 640x360 frame qualify: vec3 planes (2.8 MB) and packed surfaces (7.4 MB), which
+// From one huge page up, where rounding up to whole pages wastes at most half the request: exactly 2 MB, and every
+// request from 2.67 MB. The planes of a 640x360 frame qualify: vec3 planes (2.8 MB) and packed surfaces (7.4 MB), which
 // the reuse stages read at scattered pixels. Until 2026-12-06 the bound was 8 MB, which left them on 4 KB pages:
-// moving them cut the history searches to ~0.9x and temporal and spatial reuse to ~0.97-0.98x (ab_stats, restir-di
-// on manylights; docs/performance.md, "ReSTIR frame time").
+// moving them cut the history searches to ~0.9x and temporal reuse to ~0.97x (ab_stats, restir-di on manylights and
+// city; docs/performance.md, "ReSTIR frame time").
 bool on_huge_pages(size_t bytes) { return bytes >= kHugePage && round_up(bytes, kHugePage) - bytes <= bytes / 2; }
 
 void* try_allocate(size_t bytes, size_t alignment) {
