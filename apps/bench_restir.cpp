@@ -53,14 +53,14 @@ void capture_rays(RestirBenchScene& s) {
   const Camera camera(s.camera, g.width, g.height);
   for (size_t i = 0; i < g.size(); ++i) {
     if (!g.hit(i)) continue;
-    DiReceiver receiver = di_exact_receiver(g, camera.position(), r.lights(), i);
+    ReuseReceiver receiver = exact_receiver(g, camera.position(), r.lights(), i);
     Rng rng = Rng::for_key(7, i, 0, 0xbe);
     BsdfSample bs;
     if (receiver.bsdf.sample(receiver.wo, vec2(rng.next_float(), rng.next_float()), rng.next_float(), bs))
       s.bsdf_rays.push_back(r.tracer().spawn_ray(receiver.position, receiver.geometric_normal, bs.wi));
-    const DiReservoir& reservoir = r.di_reservoirs()[i];
+    const ReuseReservoir& reservoir = r.di_reservoirs()[i];
     if (reservoir.W <= 0.0f) continue;
-    LightSample ls = di_contribution(receiver, reservoir.y).light;
+    LightSample ls = sample_contribution(receiver, reservoir.y).light;
     s.shadow_rays.push_back(shadow_ray(r.tracer(), receiver.position, receiver.geometric_normal, ls));
   }
 }

@@ -46,7 +46,7 @@ const std::vector<ConvergeMethod>& converge_methods() {
     m.push_back({"restir", Transport::Full, [](RenderSettings& s) {
                    s.method = Method::Restir;
                    s.di_reuse.temporal = s.di_reuse.spatial = s.gi_reuse.temporal = s.gi_reuse.spatial = true;
-                   s.di_reuse.bias = s.gi_reuse.bias = DiBiasCorrection::Pairwise;
+                   s.di_reuse.bias = s.gi_reuse.bias = BiasCorrection::Pairwise;
                  }});
     return m;
   }();

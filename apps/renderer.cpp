@@ -184,9 +184,9 @@ RestirFrame Renderer::restir_frame() const {
   return {lights_, moved ? prev_lights_ : lights_, camera_.position(), prev_camera_.position(), prev_gbuffer_.packed};
 }
 
-DiDomain Renderer::current_domain() const { return restir_.current_domain(restir_frame(), gbuffer_); }
+ReuseDomain Renderer::current_domain() const { return restir_.current_domain(restir_frame(), gbuffer_); }
 
-DiDomain Renderer::previous_domain() const { return restir_.previous_domain(restir_frame(), gbuffer_); }
+ReuseDomain Renderer::previous_domain() const { return restir_.previous_domain(restir_frame(), gbuffer_); }
 
 void Renderer::reset_history() {
   has_frame_ = false;

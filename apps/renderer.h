@@ -17,7 +17,7 @@
 #include "engine/tracer.h"
 #include "denoise/denoiser.h"
 #include "restir/di.h"
-#include "restir/di_reuse.h"
+#include "restir/reuse.h"
 #include "restir/gi.h"
 #include "restir/restir_frame.h"
 #include "samplers/light_tree.h"
@@ -35,8 +35,8 @@ enum class LightSamplerKind { Auto, Uniform, Power, Tree, Exhaustive };
 
 // ReSTIR GI's reuse defaults: ReSTIR DI's, plus no reuse on surfaces smoother than roughness 0.2 and
 // samples at most 30 frames old, and visibility in the MIS weights (unbiased: the Jacobian rejection is off).
-inline DiReuseParams default_gi_reuse() {
-  DiReuseParams p;
+inline ReuseParams default_gi_reuse() {
+  ReuseParams p;
   p.min_roughness = 0.2f;
   p.max_sample_age = 30;
   p.mis_visibility = true;   // GI samples are visible from their own pixel by construction
@@ -70,9 +70,9 @@ struct RenderSettings {
   SampleSequence sampler = SampleSequence::Sobol;  // direct and pt: Sobol, ZSobol or independent numbers
   double time_budget_ms = 0.0;  // > 0: instead of `spp`, as many 1-spp passes as fit in this time per frame
   DiParams di;                  // restir-di: initial candidates
-  DiReuseParams di_reuse;       // restir-di: temporal and spatial reuse
-  DiReuseParams gi_reuse = default_gi_reuse();  // restir: reuse of the GI samples
-  DenoiserParams denoise;                       // the denoiser that finishes each frame (none by default)
+  ReuseParams di_reuse;         // restir-di: temporal and spatial reuse
+  ReuseParams gi_reuse = default_gi_reuse();  // restir: reuse of the GI samples
+  DenoiserParams denoise;                     // the denoiser that finishes each frame (none by default)
   RenderTestSwitches test;
 };
 
@@ -104,12 +104,12 @@ class Renderer {
   int accumulated_spp() const { return accumulated_spp_; }
   const GBuffer& gbuffer() const { return gbuffer_; }
   // restir-di, restir: the reservoirs the last frame shaded with (empty for other methods).
-  const std::vector<DiReservoir>& di_reservoirs() const { return restir_.di_reservoirs(); }
-  const std::vector<DiReservoir>& gi_reservoirs() const { return restir_.gi_reservoirs(); }
+  const std::vector<ReuseReservoir>& di_reservoirs() const { return restir_.di_reservoirs(); }
+  const std::vector<ReuseReservoir>& gi_reservoirs() const { return restir_.gi_reservoirs(); }
   // restir-di, restir: the packed surfaces and light placement of the last frame and of the one before
   // (what reuse's target functions read; the weight tests build combinations from them).
-  DiDomain current_domain() const;
-  DiDomain previous_domain() const;
+  ReuseDomain current_domain() const;
+  ReuseDomain previous_domain() const;
   const Scene& scene() const { return scene_; }
   const LightList& lights() const { return lights_; }
   const Tracer& tracer() const { return *tracer_; }

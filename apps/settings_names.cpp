@@ -32,9 +32,9 @@ const std::map<std::string, DenoiserKind>& denoiser_names() {
   return names;
 }
 
-const std::map<std::string, DiBiasCorrection>& di_bias_names() {
-  static const std::map<std::string, DiBiasCorrection> names = {
-      {"none", DiBiasCorrection::None}, {"basic", DiBiasCorrection::Basic}, {"pairwise", DiBiasCorrection::Pairwise}};
+const std::map<std::string, BiasCorrection>& di_bias_names() {
+  static const std::map<std::string, BiasCorrection> names = {
+      {"none", BiasCorrection::None}, {"basic", BiasCorrection::Basic}, {"pairwise", BiasCorrection::Pairwise}};
   return names;
 }
 

@@ -13,7 +13,7 @@ const std::map<std::string, Method>& method_names();
 const std::map<std::string, LightSamplerKind>& light_sampler_names();
 const std::map<std::string, SampleSequence>& sampler_names();
 const std::map<std::string, DenoiserKind>& denoiser_names();
-const std::map<std::string, DiBiasCorrection>& di_bias_names();
+const std::map<std::string, BiasCorrection>& di_bias_names();
 // "none", "temporal", "spatial", "both" (index: temporal + 2 spatial): which reuse stages of a reservoir chain
 // (ReSTIR DI's or GI's) run.
 const std::vector<std::string>& di_reuse_names();

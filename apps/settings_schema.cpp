@@ -62,7 +62,7 @@ Setting choice_row(std::string key, SettingGroup group, const std::map<std::stri
   return row;
 }
 
-// The reuse rows ReSTIR DI and GI share, under `prefix` ("di" or "gi"), on the DiReuseParams `params` reaches.
+// The reuse rows ReSTIR DI and GI share, under `prefix` ("di" or "gi"), on the ReuseParams `params` reaches.
 template <class Params>
 void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, SettingGroup group, unsigned methods,
                        Params params) {
@@ -87,65 +87,65 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
     params(s).spatial = (int(v) & 2) != 0;
   };
   rows.push_back(reuse);
-  rows.push_back(choice_row(key("bias"), group, di_bias_names(), field(&DiReuseParams::bias),
+  rows.push_back(choice_row(key("bias"), group, di_bias_names(), field(&ReuseParams::bias),
                             "Bias correction of reuse: none (1/M), basic (generalized balance heuristic, k^2 target "
                             "evaluations) or pairwise (pairwise MIS, k evaluations)",
                             methods));
   rows.back().scope = kEverywhere & ~kConverge;
-  rows.push_back(number_row(key("neighbours"), group, SettingType::Int, 0, 31,
-                            field(&DiReuseParams::spatial_neighbours), "Spatial neighbours per pass", methods));
-  rows.push_back(number_row(key("radius"), group, SettingType::Float, 1, 1000, field(&DiReuseParams::spatial_radius),
+  rows.push_back(number_row(key("neighbours"), group, SettingType::Int, 0, 31, field(&ReuseParams::spatial_neighbours),
+                            "Spatial neighbours per pass", methods));
+  rows.push_back(number_row(key("radius"), group, SettingType::Float, 1, 1000, field(&ReuseParams::spatial_radius),
                             "Spatial reuse radius in pixels", methods));
   rows.back().widget_max = 64;
   rows.push_back(number_row(key("neighbour_block"), group, SettingType::Int, 1, 64,
-                            field(&DiReuseParams::neighbour_block),
+                            field(&ReuseParams::neighbour_block),
                             "Pixels of each block this many pixels on a side share their spatial neighbours' offsets "
                             "(1 = each pixel draws its own; larger is faster and correlates the block)",
                             methods));
   rows.back().widget_max = 16;
-  rows.push_back(number_row(key("spatial_passes"), group, SettingType::Int, 1, 8, field(&DiReuseParams::spatial_passes),
+  rows.push_back(number_row(key("spatial_passes"), group, SettingType::Int, 1, 8, field(&ReuseParams::spatial_passes),
                             "Spatial reuse passes", methods));
   rows.push_back(number_row(key("shaded_samples"), group, SettingType::Int, 1, kMaxShadedSamples,
-                            field(&DiReuseParams::shaded_samples),
+                            field(&ReuseParams::shaded_samples),
                             "Samples the last spatial pass keeps of each pixel's combination (stratified over its "
                             "weights), each weighted 1/n and shaded with its own shadow ray, once for repeats of one "
                             "sample (the first becomes history; needs spatial reuse)",
                             methods));
   rows.push_back(number_row(key("disocclusion_neighbours"), group, SettingType::Int, 0, 31,
-                            field(&DiReuseParams::disocclusion_neighbours),
+                            field(&ReuseParams::disocclusion_neighbours),
                             "Spatial neighbours (first pass) for pixels whose temporal history was lost", methods));
   rows.push_back(number_row(key("boiling_filter"), group, SettingType::Float, 0, 1e6,
-                            field(&DiReuseParams::boiling_threshold),
+                            field(&ReuseParams::boiling_threshold),
                             "Drop reservoirs whose estimated contribution exceeds this many times their 16x16 block's "
                             "mean, after temporal reuse (0 = off; biased: removes energy)",
                             methods));
   rows.back().widget_max = 100;
   rows.push_back(number_row(key("visibility_reuse"), group, SettingType::Int, 0, 255,
-                            field(&DiReuseParams::visibility_reuse_frames),
+                            field(&ReuseParams::visibility_reuse_frames),
                             "Reuse last frame's final shadow-ray verdict where a pixel keeps its temporal history's "
                             "sample, for at most this many frames in a row (0 = off; biased where occluders move)",
                             methods));
   rows.back().widget_max = 16;
-  rows.push_back(flag_row(key("drop_occluded"), group, field(&DiReuseParams::drop_occluded),
+  rows.push_back(flag_row(key("drop_occluded"), group, field(&ReuseParams::drop_occluded),
                           "A reservoir whose sample the shading found occluded drops it before it becomes history "
                           "(biased at shadow edges and where occluders move)",
                           methods, prefix + "-keep-occluded"));
-  rows.push_back(flag_row(key("permutation"), group, field(&DiReuseParams::permutation_sampling),
+  rows.push_back(flag_row(key("permutation"), group, field(&ReuseParams::permutation_sampling),
                           "Permutation sampling of the previous frame (decorrelates frames for a denoiser)", methods));
-  rows.push_back(number_row(key("history_cap"), group, SettingType::Float, 0, 1000, field(&DiReuseParams::history_cap),
+  rows.push_back(number_row(key("history_cap"), group, SettingType::Float, 0, 1000, field(&ReuseParams::history_cap),
                             "The previous frame's reservoir counts at most this many times the current M", methods));
   rows.back().widget_max = 100;
   if (!gi) return;
   rows.push_back(
-      number_row("gi_max_jacobian", group, SettingType::Float, 0, 1e6, field(&DiReuseParams::max_jacobian),
+      number_row("gi_max_jacobian", group, SettingType::Float, 0, 1e6, field(&ReuseParams::max_jacobian),
                  "Reject a reused GI sample whose reconnection Jacobian exceeds this (0 = off, unbiased; > 0 "
                  "removes fireflies at the price of bias)",
                  methods));
   rows.back().widget_max = 100;
-  rows.push_back(number_row("gi_min_roughness", group, SettingType::Float, 0, 1, field(&DiReuseParams::min_roughness),
+  rows.push_back(number_row("gi_min_roughness", group, SettingType::Float, 0, 1, field(&ReuseParams::min_roughness),
                             "Pixels smoother than this keep their own GI sample (no reuse on glossy surfaces)",
                             methods));
-  rows.push_back(number_row("gi_max_age", group, SettingType::Int, 0, 65535, field(&DiReuseParams::max_sample_age),
+  rows.push_back(number_row("gi_max_age", group, SettingType::Int, 0, 65535, field(&ReuseParams::max_sample_age),
                             "Temporal reuse drops GI samples older than this many frames (0 = no limit)", methods));
   rows.back().widget_max = 255;
 }

@@ -59,10 +59,10 @@ void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBa
     for (int s = 0; s < slots; ++s) {
       if (plane.active[s] == 0.0f) continue;
       const DiCandidateBatch::Slot& b = batch.slot[s];
-      DiSample sample;
+      ReuseSample sample;
       batch.candidate(*b.target.lights, k, s, sample);
-      DiContribution c = di_contribution(b.target, sample);
-      plane.p_hat[s] = di_target(c);
+      SampleContribution c = sample_contribution(b.target, sample);
+      plane.p_hat[s] = sample_target(c);
       plane.bsdf_area_pdf[s] = di_bsdf_area_pdf(b.receiver, c, params.bsdf_candidates);
     }
   }

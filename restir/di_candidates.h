@@ -25,10 +25,10 @@ struct DiCandidateBatch {
     bool hit = false;
     size_t pixel = 0;
     Rng rng;
-    DiReceiver receiver;  // exact (densities of BSDF candidates that hit a light, visibility), built by exact()
-                          // on first use where the lanes hold the exact BSDFs' terms
-    DiReceiver target;    // packed (targets), built by target() on first use where the lanes evaluate the
-                          // light candidates
+    ReuseReceiver receiver;  // exact (densities of BSDF candidates that hit a light, visibility), built by exact()
+                             // on first use where the lanes hold the exact BSDFs' terms
+    ReuseReceiver target;    // packed (targets), built by target() on first use where the lanes evaluate the
+                             // light candidates
     bool receiver_built = false, target_built = false;
     ShadingContext ctx;
     int light_candidates = 0;  // M_l of the slot: DiParams::light_candidates, or history_light_candidates
@@ -36,14 +36,14 @@ struct DiCandidateBatch {
   alignas(64) float M_l[kLaneSlots];  // the slots' M_l, as the resampling lanes read it
   // The packed receiver of a slot, for the targets the lanes do not evaluate (BSDF candidates, punctual
   // lights).
-  const DiReceiver& target(const DiDomain& domain, int s) {
-    if (!slot[s].target_built) slot[s].target = di_receiver(domain, slot[s].pixel), slot[s].target_built = true;
+  const ReuseReceiver& target(const ReuseDomain& domain, int s) {
+    if (!slot[s].target_built) slot[s].target = reuse_receiver(domain, slot[s].pixel), slot[s].target_built = true;
     return slot[s].target;
   }
   // The exact receiver of a slot (G-buffer g, eye and lights of `domain`).
-  const DiReceiver& exact(const GBuffer& g, const DiDomain& domain, int s) {
+  const ReuseReceiver& exact(const GBuffer& g, const ReuseDomain& domain, int s) {
     if (!slot[s].receiver_built)
-      slot[s].receiver = di_exact_receiver(g, domain.eye, domain.lights, slot[s].pixel), slot[s].receiver_built = true;
+      slot[s].receiver = exact_receiver(g, domain.eye, domain.lights, slot[s].pixel), slot[s].receiver_built = true;
     return slot[s].receiver;
   }
   // Light candidate k of a slot, at [k * kLaneSlots + slot]: the chosen light and the uniforms that place
@@ -56,8 +56,8 @@ struct DiCandidateBatch {
     BsdfSample sample;
     float u = 0.0f;
     Hit hit;
-    int64_t light = -1;     // the light the hit landed on (-1: none, or no hit)
-    DiSample light_sample;  // where light >= 0: the sample at the hit's point
+    int64_t light = -1;        // the light the hit landed on (-1: none, or no hit)
+    ReuseSample light_sample;  // where light >= 0: the sample at the hit's point
   };
   std::vector<BsdfCandidate> bsdf;              // [k * kLaneSlots + slot]
   std::vector<CandidateLanes> bsdf_hits;        // per BSDF candidate, its hits' points on lights (params.simd)
@@ -81,7 +81,7 @@ struct DiCandidateBatch {
   }
   // Light candidate k of slot s as a sample, written into `out` field by field (returned whole, the sample was
   // copied out of a temporary through overlapping reloads that stalled on store forwarding).
-  void candidate(const LightList& lights, int k, int s, DiSample& out) const {
+  void candidate(const LightList& lights, int k, int s, ReuseSample& out) const {
     const size_t at = size_t(k) * kLaneSlots + size_t(s);
     out.light = light[at];
     out.uv = uv[at];
@@ -93,13 +93,13 @@ struct DiCandidateBatch {
 // Stage "di_candidates", part 1 (per tile row): each pixel's receivers and its M_l light candidates, drawn
 // from the sampler and placed on their lights (or read from the pixel's light tile, with `tiles`: one
 // uniform entry each, with the density of the tile's context), into the batch's slots and lanes; with `history`
-// (the row's di_find_history answers) a pixel with history draws its first history_light_candidates only, and its
+// (the row's find_history_pixels answers) a pixel with history draws its first history_light_candidates only, and its
 // other candidates stay empty (the uniforms are drawn either way, so every candidate keeps its numbers). In three
 // passes over the row, so that the cache misses of the sampler's tables and of the chosen lights' records
 // (with 1e5 lights, several per candidate) overlap across pixels instead of stalling each candidate in turn:
 // the uniforms (and the sampler's prefetch), the choices (and the lights' records prefetched), the points.
 template <LightSampler S>
-void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
+void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const ReuseDomain& domain,
                            const DiParams& params, int frame, size_t row, int x0, int y, int slots,
                            const LightTiles* tiles, const int32_t* history, DiCandidateBatch& batch) {
   const int K = params.light_candidates;
@@ -189,7 +189,7 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
     for (int k = 0; k < count; ++k) view.lights.prefetch(chosen[k].index);
   }
   // Each candidate's light and density into the batch and its point straight into the lanes (a whole
-  // DiSample assembled and copied per candidate stalled on store forwarding in the profile).
+  // ReuseSample assembled and copied per candidate stalled on store forwarding in the profile).
   for (int s = 0; s < slots; ++s) {
     if (!batch.slot[s].hit) continue;
     for (int k = 0; k < batch.slot[s].light_candidates; ++k) {
@@ -206,14 +206,14 @@ void draw_light_candidates(const SceneView& view, const S& sampler, const GBuffe
 
 // Area density with which BSDF sampling at the receiver reaches a light sample (0 for delta lights, and
 // without BSDF candidates).
-inline float di_bsdf_area_pdf(const DiReceiver& receiver, const DiContribution& c, int bsdf_candidates) {
+inline float di_bsdf_area_pdf(const ReuseReceiver& receiver, const SampleContribution& c, int bsdf_candidates) {
   if (bsdf_candidates == 0 || c.light.is_delta) return 0.0f;
   float d = c.light.distance;
   return receiver.bsdf.pdf(receiver.wo, c.light.wi) * std::abs(glm::dot(c.light.normal, c.light.wi)) / (d * d);
 }
 
 // Part 2, the scalar reference of evaluate_candidate_lanes: p_hat and BSDF area density of the active
-// candidates of `slots` slots, one at a time through di_contribution.
+// candidates of `slots` slots, one at a time through sample_contribution.
 void evaluate_candidates_scalar(const DiParams& params, int slots, DiCandidateBatch& batch);
 
 // Part 3 (per pixel): M_b BSDF directions sampled at the exact receiver (their rays are traced together
@@ -290,10 +290,10 @@ void locate_bsdf_hits(const SceneView& view, const DiParams& params, int slots, 
 // candidates: their plain estimate of it goes to `unsampled`. With candidate_visibility, one shadow ray to
 // the kept sample. Writes `r` and `unsampled` whole (also where the pixel has no hit). Returns the rays traced.
 template <LightSampler S>
-uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
+uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const ReuseDomain& domain,
                              const DiParams& params, int slot, const StreamLanes* lanes, DiCandidateBatch& batch,
-                             DiReservoir& r, vec3& unsampled) {
-  r = DiReservoir{};
+                             ReuseReservoir& r, vec3& unsampled) {
+  r = ReuseReservoir{};
   unsampled = vec3(0.0f);
   DiCandidateBatch::Slot& b = batch.slot[slot];
   if (!b.hit) return 0;
@@ -306,11 +306,11 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
     for (int k = 0; k < params.light_candidates; ++k) {
       const size_t at = size_t(k) * kLaneSlots + size_t(slot);
       if (batch.p_light[at] <= 0.0f) continue;
-      DiSample s;
+      ReuseSample s;
       batch.candidate(view.lights, k, slot, s);
       float p_hat = batch.planes[size_t(k)].p_hat[slot], p_bsdf = batch.planes[size_t(k)].bsdf_area_pdf[slot];
       if (s.light >= view.lights.triangle_count()) {  // punctual: not in the lanes
-        p_hat = di_target(di_contribution(batch.target(domain, slot), s));
+        p_hat = sample_target(sample_contribution(batch.target(domain, slot), s));
         p_bsdf = 0.0f;
       }
       if (p_hat <= 0.0f) continue;
@@ -331,14 +331,14 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
       unsampled += bs.f * (std::abs(glm::dot(bs.wi, g.shading_normal[b.pixel])) / bs.pdf) * L / M_b;
       continue;
     }
-    const DiSample& s = candidate.light_sample;
+    const ReuseSample& s = candidate.light_sample;
     float p_hat, p_bsdf;
     if (params.simd && batch.bsdf_hits[size_t(k)].active[slot] > 0.0f) {  // evaluated by locate_bsdf_hits
       p_hat = batch.bsdf_hits[size_t(k)].p_hat[slot];
       p_bsdf = batch.bsdf_hits[size_t(k)].bsdf_area_pdf[slot];
     } else {
-      const DiContribution c = di_contribution(batch.target(domain, slot), s);
-      p_hat = di_target(c);
+      const SampleContribution c = sample_contribution(batch.target(domain, slot), s);
+      p_hat = sample_target(c);
       p_bsdf = di_bsdf_area_pdf(batch.exact(g, domain, slot), c, params.bsdf_candidates);
     }
     if (p_hat <= 0.0f) continue;
@@ -348,9 +348,9 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
   r.M = M_l + M_b;
   r.finalize();
   if (!params.candidate_visibility || r.W <= 0.0f) return 0;
-  const DiReceiver& receiver = batch.exact(g, domain, slot);
-  if (view.tracer.occluded(
-          shadow_ray(view.tracer, receiver.position, receiver.geometric_normal, di_contribution(receiver, r.y).light)))
+  const ReuseReceiver& receiver = batch.exact(g, domain, slot);
+  if (view.tracer.occluded(shadow_ray(view.tracer, receiver.position, receiver.geometric_normal,
+                                      sample_contribution(receiver, r.y).light)))
     r.W = 0.0f;
   return 1;
 }
@@ -362,8 +362,8 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
 // and rays (in packets),
 // plus one shadow ray with candidate_visibility.
 template <LightSampler S>
-void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                           const DiParams& params, int frame, std::vector<DiReservoir>& out,
+void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const ReuseDomain& domain,
+                           const DiParams& params, int frame, std::vector<ReuseReservoir>& out,
                            std::vector<vec3>& unsampled, RayCounter& rays, const LightTiles* tiles = nullptr,
                            const std::vector<int32_t>* history = nullptr) {
   // Sized only: resample_candidates writes every pixel (in parallel, where a fill here ran on one thread).

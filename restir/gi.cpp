@@ -4,8 +4,8 @@
 
 namespace candela {
 
-void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& domain, const GiParams& params, int frame,
-                   int x0, int x1, int y, std::vector<DiReservoir>& out, std::vector<GiStart>& starts,
+void gi_first_rays(const SceneView& view, const GBuffer& g, const ReuseDomain& domain, const GiParams& params,
+                   int frame, int x0, int x1, int y, std::vector<ReuseReservoir>& out, std::vector<GiStart>& starts,
                    std::vector<PathState>& paths, std::vector<Rng>& rngs) {
   struct Row {
     ExactSurfaceLanes surfaces;
@@ -31,7 +31,7 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
   row.streams.fill(6, slots, row.numbers);
   for (int s = 0; s < slots; ++s) {
     const size_t i = first + size_t(s);
-    out[i] = DiReservoir{};
+    out[i] = ReuseReservoir{};
     row.directions.active[s] = 0.0f;
     if (!g.hit(i)) continue;
     // One attempt, M = 1, whatever comes of it: a ray that escapes or a path that brings no light is a
@@ -63,9 +63,9 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& doma
   }
 }
 
-void gi_sample_reservoirs(const DiDomain& domain, const std::vector<GiStart>& starts,
+void gi_sample_reservoirs(const ReuseDomain& domain, const std::vector<GiStart>& starts,
                           const std::vector<PathState>& paths, const std::vector<std::optional<SurfacePoint>>& x_s,
-                          std::vector<DiReservoir>& out, Counter& non_finite) {
+                          std::vector<ReuseReservoir>& out, Counter& non_finite) {
   struct Group {
     SurfaceLanes surfaces;
     ReceiverLanes receivers;
@@ -96,8 +96,8 @@ void gi_sample_reservoirs(const DiDomain& domain, const std::vector<GiStart>& st
       const size_t k = first + size_t(s);
       const float p_hat = group.samples.p_hat[s], p_area = group.p_area[s];
       if (group.samples.active[s] == 0.0f || !(p_area > 0.0f) || p_hat <= 0.0f) continue;
-      DiReservoir& r = out[starts[k].pixel];
-      r.update(DiSample{kSurfacePointSample, starts[k].tag, group.samples.point(s), 0}, p_hat / p_area, p_hat,
+      ReuseReservoir& r = out[starts[k].pixel];
+      r.update(ReuseSample{kSurfacePointSample, starts[k].tag, group.samples.point(s), 0}, p_hat / p_area, p_hat,
                starts[k].u);
       r.finalize();
     }

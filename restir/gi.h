@@ -3,14 +3,14 @@
 // BSDF-sampled ray from the visible point x_v to a sample point x_s, whose outgoing radiance towards x_v is
 // estimated by path tracing (NEE with the light sampler, Russian roulette; the emission of x_s itself is
 // direct light, left to ReSTIR DI so nothing is counted twice). The sample is stored as a surface-point
-// sample (DiSample with light = kSurfacePointSample: position, normal facing x_v, radiance), so ReSTIR
-// DI's reuse stages, bias corrections, boiling filter, visibility reuse and shading apply unchanged. The
+// sample (ReuseSample with light = kSurfacePointSample: position, normal facing x_v, radiance), so the reuse
+// stages, bias corrections, boiling filter, visibility reuse and shading that ReSTIR DI uses apply unchanged. The
 // target at a receiver is the luminance of f L_o |cos_v| |cos_s| / d^2, the sample's contribution in the
 // area measure of x_s: moving a sample to another receiver changes that area factor exactly by the
 // reconnection Jacobian (the paper's eq. 11), so the Jacobian is part of the target and of W. The
 // paper's approximation stays: x_s is taken to send L_o to every receiver (exact for diffuse x_s).
 #include "engine/path_batch.h"
-#include "restir/di.h"
+#include "restir/sample.h"
 
 namespace candela {
 
@@ -34,19 +34,19 @@ struct GiStart {
 // Stage "gi_samples", part 1 (per tile row): pixels [x0, x1) of row y. Each hit pixel's reservoir gets M = 1
 // (the others an empty one) and its first ray, drawn from the BSDF of x_v (the exact G-buffer surface) with the
 // BSDF's terms, value and density in lanes (engine/bsdf_lanes.h, restir/receiver_lanes.h; the scalar
-// di_exact_receiver and Bsdf::sample give the same bits): a start, a path and its random stream per pixel
+// exact_receiver and Bsdf::sample give the same bits): a start, a path and its random stream per pixel
 // whose ray leaves the surface are appended.
-void gi_first_rays(const SceneView& view, const GBuffer& g, const DiDomain& domain, const GiParams& params, int frame,
-                   int x0, int x1, int y, std::vector<DiReservoir>& out, std::vector<GiStart>& starts,
+void gi_first_rays(const SceneView& view, const GBuffer& g, const ReuseDomain& domain, const GiParams& params,
+                   int frame, int x0, int x1, int y, std::vector<ReuseReservoir>& out, std::vector<GiStart>& starts,
                    std::vector<PathState>& paths, std::vector<Rng>& rngs);
 
 // Part 3 (per tile): each traced path's sample x_s (its first hit, with the path's radiance) into its pixel's
 // reservoir, with W = 1 / p_area(x_s), p_area the BSDF's solid-angle density times |cos_s| / d^2, and the target
-// at the pixel's packed receiver evaluated in lanes (evaluate_candidate_lanes: di_target's bits). A path
+// at the pixel's packed receiver evaluated in lanes (evaluate_candidate_lanes: sample_target's bits). A path
 // whose radiance is not finite is counted in `non_finite` and leaves the reservoir empty.
-void gi_sample_reservoirs(const DiDomain& domain, const std::vector<GiStart>& starts,
+void gi_sample_reservoirs(const ReuseDomain& domain, const std::vector<GiStart>& starts,
                           const std::vector<PathState>& paths, const std::vector<std::optional<SurfacePoint>>& x_s,
-                          std::vector<DiReservoir>& out, Counter& non_finite);
+                          std::vector<ReuseReservoir>& out, Counter& non_finite);
 
 // Stage "gi_samples": reads the G-buffer (exact surface: BSDF sampling) and packed surfaces (target);
 // writes one reservoir per pixel holding its sample point, M = 1 and W = 1 / p_area(x_s); a path whose
@@ -54,11 +54,11 @@ void gi_sample_reservoirs(const DiDomain& domain, const std::vector<GiStart>& st
 // (about 1 + 2 x bounces rays), a tile's paths traced together with their rays in packets and their BSDF
 // work in lanes (engine/path_batch.h).
 template <LightSampler S>
-void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& g, const DiDomain& domain,
-                        const GiParams& params, int frame, std::vector<DiReservoir>& out, RayCounter& rays,
+void gi_initial_samples(const SceneView& view, const S& sampler, const GBuffer& g, const ReuseDomain& domain,
+                        const GiParams& params, int frame, std::vector<ReuseReservoir>& out, RayCounter& rays,
                         Counter& non_finite) {
   if (params.max_depth < 2) {
-    out.assign(g.size(), DiReservoir{});
+    out.assign(g.size(), ReuseReservoir{});
     return;
   }
   out.resize(g.size());  // every pixel is written below (in parallel, where a fill here ran on one thread)

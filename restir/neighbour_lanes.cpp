@@ -1,5 +1,5 @@
 // The neighbour kernel (neighbour_lanes.h), compiled once per instruction set by Highway's foreach_target.h
-// and dispatched at run time. It repeats di_reuse.h's similar_surfaces with engine/octahedral.h's oct_decode.
+// and dispatched at run time. It repeats reuse.h's similar_surfaces with engine/octahedral.h's oct_decode.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "restir/neighbour_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep

@@ -1,5 +1,5 @@
 #pragma once
-// Which neighbours of a tile row of pixels may share samples with them, in SIMD lanes: di_reuse.h's
+// Which neighbours of a tile row of pixels may share samples with them, in SIMD lanes: reuse.h's
 // similar_surfaces (close in linear depth, shading normals within a cosine) for every slot and neighbour of the row at
 // once. One at a time, each neighbour's octahedral normal cost a dependent square root and division
 // (about 5% of a restir-di frame, measured by leaving the normal test out); in lanes they cost a

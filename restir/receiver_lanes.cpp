@@ -1,6 +1,6 @@
 // The receiver kernel (receiver_lanes.h), compiled once per instruction set by Highway's foreach_target.h
 // and dispatched at run time. Each step names the scalar function whose arithmetic it repeats, in the same
-// order (engine/octahedral.h oct_decode, restir/di.h di_receiver, engine/packed_surface.cpp PackedSurface::bsdf,
+// order (engine/octahedral.h oct_decode, restir/sample.h reuse_receiver, engine/packed_surface.cpp PackedSurface::bsdf,
 // engine/bsdf.cpp the Bsdf constructor and Bsdf::wo_terms, engine/ggx_albedo.h GgxAlbedoRow). The packed
 // material's specular F0 is grey, so the dielectric layer's terms are one value for all three channels.
 #undef HWY_TARGET_INCLUDE
@@ -27,7 +27,7 @@ void build(D d, const SurfaceLanes& in, const vec3& eye, int s, ReceiverLanes& o
   const DI di;
   const DU du;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
-  // di_receiver: position, decoded normals, wo = normalize(eye - position).
+  // reuse_receiver: position, decoded normals, wo = normalize(eye - position).
   const V3 p = load3(d, in.px, in.py, in.pz, s);
   const V3 ng = oct_decode(d, hn::Load(du, in.geometric_normal + s));
   const V3 n = oct_decode(d, hn::Load(du, in.shading_normal + s));
@@ -87,7 +87,7 @@ void build(D d, const SurfaceLanes& in, const vec3& eye, int s, ReceiverLanes& o
   }
 }
 
-// One vector of slots [s, s + lanes) of the exact receivers: di_exact_receiver's wo = normalize(eye - position),
+// One vector of slots [s, s + lanes) of the exact receivers: exact_receiver's wo = normalize(eye - position),
 // then the BSDF's terms (build_bsdf); where `geometry` is given, also the receivers' position, geometric normal
 // and wo into it.
 void build_exact(D d, const ExactSurfaceLanes& in, const vec3& eye, int s, BsdfLanes& t, ReceiverLanes* geometry) {

@@ -1,10 +1,10 @@
 #pragma once
-// ReSTIR DI's receivers built in SIMD lanes: the receiver of a packed surface (di_receiver: decoded normals,
-// direction to the eye and the BSDF of the packed material) with the wo terms of its BSDF, for up to a
-// tile row of surfaces at once. Reuse evaluates each neighbour's receiver against one or two samples only,
-// so building it costs as much as evaluating it: in lanes, both are cheap. The kernel repeats the scalar
-// code's operations in order (oct_decode, glm::normalize, PackedSurface::bsdf, the Bsdf constructor and
-// Bsdf::wo_terms), so it gives their bits (tests/test_target_lanes.cpp).
+// The receivers of ReSTIR DI and GI built in SIMD lanes: the receiver of a packed surface (reuse_receiver: decoded
+// normals, direction to the eye and the BSDF of the packed material) with the wo terms of its BSDF, for up to a tile
+// row of surfaces at once. Reuse evaluates each neighbour's receiver against one or two samples only, so building it
+// costs as much as evaluating it: in lanes, both are cheap. The kernel repeats the scalar code's operations in order
+// (oct_decode, glm::normalize, PackedSurface::bsdf, the Bsdf constructor and Bsdf::wo_terms), so it gives their bits
+// (tests/test_target_lanes.cpp).
 #include "engine/gbuffer.h"
 #include "engine/packed_surface.h"
 #include "restir/target_lanes.h"
@@ -59,13 +59,13 @@ struct ExactSurfaceLanes {
   }
 };
 
-// Slots [0, slots) of `exact`: the wo terms of the exact receivers' BSDFs (di_exact_receiver's
+// Slots [0, slots) of `exact`: the wo terms of the exact receivers' BSDFs (exact_receiver's
 // GBuffer::bsdf and Bsdf::wo_terms, all of them: also g1_o and p_specular, which BSDF sampling reads) for
 // `surfaces` seen from `eye`. Slots whose surface is empty (no hit) get terms nobody may read. Cost per
 // receiver: ~250 flops and 6 table gathers, in lanes.
 void build_exact_receiver_lanes(const ExactSurfaceLanes& surfaces, const vec3& eye, int slots, BsdfLanes& exact);
 
-// Slots [0, slots) of `out`: the whole exact receivers of `surfaces` seen from `eye` (di_exact_receiver):
+// Slots [0, slots) of `out`: the whole exact receivers of `surfaces` seen from `eye` (exact_receiver):
 // position, geometric normal and wo, and the exact BSDF planes as build_exact_receiver_lanes builds them; the
 // target planes are left alone. The final shading's receivers. Cost: build_exact_receiver_lanes's and 9 stores.
 void build_exact_receivers(const ExactSurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out);

@@ -1,6 +1,6 @@
 // The resampling kernels (resample_lanes.h), compiled once per instruction set by Highway's foreach_target.h
 // and dispatched at run time. They repeat restir/di_candidates.h's resample_candidates (its light candidates),
-// restir/di_reuse.cpp's pairwise_weight and combine, and Reservoir::update, finalize and systematic_picks
+// restir/reuse.cpp's pairwise_weight and combine, and Reservoir::update, finalize and systematic_picks
 // (restir/reservoir.h), in their order.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "restir/resample_lanes.cpp"

@@ -1,7 +1,7 @@
 #pragma once
 // ReSTIR's streaming resampling in SIMD lanes, one tile row of pixels at a time (one pixel per lane), once
 // the targets are known: the light candidates of the first stage (di_candidates.h, resample_candidates) and
-// reuse's combinations with pairwise MIS (di_reuse.cpp, pairwise_weight and combine). Scalar, each
+// reuse's combinations with pairwise MIS (reuse.cpp, pairwise_weight and combine). Scalar, each
 // candidate's keep-or-not is a coin flip, a mispredicted branch about every other time, and every kept
 // candidate copies a 64-byte sample; here the weights and Reservoir::update run in lanes and only the kept
 // candidate's sample is copied, once per pixel. The kernels (Google Highway, run-time dispatch) repeat the
@@ -48,7 +48,7 @@ struct CombineLanes {
 };
 
 // The combinations of slots [0, slots), each over its count inputs (count >= 1; up to max_count): the pairwise
-// MIS weight m_k of every input's sample (Bitterli 2022, ch. 9; di_reuse.cpp), its resampling weight
+// MIS weight m_k of every input's sample (Bitterli 2022, ch. 9; reuse.cpp), its resampling weight
 // m_k p_0(y_k) W_k streamed through one reservoir with uniform u_k, then the result's contribution weight.
 // With `visibility` every neighbour's term counts only where the sample is visible from its surface.
 // Cost per slot: ~4 divisions and 12 flops per input, in lanes.

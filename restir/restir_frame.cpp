@@ -12,11 +12,11 @@ void Restir::forget_history() {
   gi_.history.clear();
 }
 
-DiDomain Restir::current_domain(const RestirFrame& frame, const GBuffer& g) const {
+ReuseDomain Restir::current_domain(const RestirFrame& frame, const GBuffer& g) const {
   return {g.packed, g.width, g.height, frame.eye, frame.lights};
 }
 
-DiDomain Restir::previous_domain(const RestirFrame& frame, const GBuffer& g) const {
+ReuseDomain Restir::previous_domain(const RestirFrame& frame, const GBuffer& g) const {
   return {frame.prev_surfaces, g.width, g.height, frame.prev_eye, frame.prev_lights};
 }
 
@@ -27,7 +27,8 @@ DiDomain Restir::previous_domain(const RestirFrame& frame, const GBuffer& g) con
 // history of a still pixel stays unbiased; a neighbour that sees the sample, or this pixel once the
 // occluder moved, loses its share (darkening at shadow edges). Cost: one pass over the verdicts, in parallel
 // ranges of 4096 pixels (on one thread it was ~0.5% of a restir-di frame's wall time).
-static void drop_occluded_samples(const std::vector<DiVisibility>& visibility, std::vector<DiReservoir>& reservoirs) {
+static void drop_occluded_samples(const std::vector<SampleVisibility>& visibility,
+                                  std::vector<ReuseReservoir>& reservoirs) {
   parallel_for_ranges(size_t(0), reservoirs.size(), size_t(4096), [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i)
       if (visibility[i].valid && !visibility[i].visible) reservoirs[i].W = reservoirs[i].w_sum = 0.0f;
@@ -35,11 +36,10 @@ static void drop_occluded_samples(const std::vector<DiVisibility>& visibility, s
 }
 
 bool Restir::find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
-                          const DiReuseParams& reuse, int key, int pass, ReservoirChain& chain,
-                          FrameStats& stats) const {
+                          const ReuseParams& reuse, int key, int pass, ReservoirChain& chain, FrameStats& stats) const {
   if (!reuse.temporal || pass != 0 || chain.history.size() != g.size()) return false;
   StageTimer timer(stats, prefix + "_history");
-  di_find_history(g, current_domain(frame, g), previous_domain(frame, g), reuse, key, chain.history_pixel);
+  find_history_pixels(g, current_domain(frame, g), previous_domain(frame, g), reuse, key, chain.history_pixel);
   return true;
 }
 
@@ -50,21 +50,21 @@ bool Restir::find_history(const GBuffer& g, const RestirFrame& frame, const std:
 // shadow-ray verdicts become the chain's history, by swapping buffers (every stage rewrites its output
 // buffer whole, so nothing stale survives the swap).
 void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame,
-                             const std::string& prefix, const DiReuseParams& reuse, int key, bool temporal,
+                             const std::string& prefix, const ReuseParams& reuse, int key, bool temporal,
                              const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats, Image& sum) {
-  const DiDomain current = current_domain(frame, g), previous = previous_domain(frame, g);
-  std::vector<DiReservoir>* result = &chain.initial;
+  const ReuseDomain current = current_domain(frame, g), previous = previous_domain(frame, g);
+  std::vector<ReuseReservoir>* result = &chain.initial;
   if (temporal) {
     StageTimer timer(stats, prefix + "_temporal");
-    di_temporal_reuse(view, g, current, previous, *result, chain.history, reuse, key, chain.temporal,
-                      chain.history_pixel, timer.rays());
+    temporal_reuse(view, g, current, previous, *result, chain.history, reuse, key, chain.temporal, chain.history_pixel,
+                   timer.rays());
     result = &chain.temporal;
   }
   if (temporal && reuse.boiling_threshold > 0.0f) {
     StageTimer timer(stats, prefix + "_boiling_filter");
-    di_boiling_filter(current, reuse.boiling_threshold, chain.temporal);
+    boiling_filter(current, reuse.boiling_threshold, chain.temporal);
   }
-  // The last spatial pass keeps shaded_samples samples of each combination (di_spatial_reuse's further samples):
+  // The last spatial pass keeps shaded_samples samples of each combination (spatial_reuse's further samples):
   // each is the combination's estimator, so their mean is unbiased and averages out part of what one sample's shadow
   // ray leaves.
   const int samples =
@@ -72,17 +72,17 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
   chain.further.resize(size_t(samples - 1));
   for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
     StageTimer timer(stats, prefix + "_spatial");
-    di_spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr,
-                     chain.spatial[k % 2], timer.rays(), k == reuse.spatial_passes - 1 ? &chain.further : nullptr);
+    spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr,
+                  chain.spatial[k % 2], timer.rays(), k == reuse.spatial_passes - 1 ? &chain.further : nullptr);
     result = &chain.spatial[k % 2];
   }
   {
     StageTimer timer(stats, prefix + "_shade");
     std::swap(chain.visibility, chain.prev_visibility);
-    DiVisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr,
-                                 &chain.prev_visibility};
-    di_shade(view, g, *result, chain.further, unsampled, visibility, reuse.simd, chain.visibility, sum, timer.rays(),
-             timer.non_finite());
+    VisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr,
+                               &chain.prev_visibility};
+    shade_reservoirs(view, g, *result, chain.further, unsampled, visibility, reuse.simd, chain.visibility, sum,
+                     timer.rays(), timer.non_finite());
     if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);
   }
   std::swap(chain.history, *result);

@@ -12,7 +12,8 @@
 #include "engine/image.h"
 #include "restir/di.h"
 #include "restir/di_candidates.h"
-#include "restir/di_reuse.h"
+#include "restir/reuse.h"
+#include "restir/shade.h"
 #include "restir/gi.h"
 
 namespace candela {
@@ -21,20 +22,20 @@ namespace candela {
 // stage, the history the next frame reuses, which previous pixel each pixel merged, and the final
 // shadow-ray verdicts of this and the previous pass.
 struct ReservoirChain {
-  std::vector<DiReservoir> initial, temporal, spatial[2], history;
+  std::vector<ReuseReservoir> initial, temporal, spatial[2], history;
   std::vector<int32_t> history_pixel;
-  std::vector<DiVisibility> visibility, prev_visibility;
-  // The last spatial pass's further samples (DiReuseParams::shaded_samples), shaded and then forgotten.
-  std::vector<std::vector<DiReservoir>> further;
+  std::vector<SampleVisibility> visibility, prev_visibility;
+  // The last spatial pass's further samples (ReuseParams::shaded_samples), shaded and then forgotten.
+  std::vector<std::vector<ReuseReservoir>> further;
 };
 
 struct RestirSettings {
-  DiParams di;             // initial candidates
-  DiReuseParams di_reuse;  // DI's temporal and spatial reuse
-  DiReuseParams gi_reuse;  // GI's
-  GiParams gi;             // GI's samples (paths)
-  bool with_gi = false;    // restir: GI too; restir-di: DI alone
-  bool gi_only = false;    // with_gi: shade the indirect light alone (tests compare it with a reference)
+  DiParams di;           // initial candidates
+  ReuseParams di_reuse;  // DI's temporal and spatial reuse
+  ReuseParams gi_reuse;  // GI's
+  GiParams gi;           // GI's samples (paths)
+  bool with_gi = false;  // restir: GI too; restir-di: DI alone
+  bool gi_only = false;  // with_gi: shade the indirect light alone (tests compare it with a reference)
   uint64_t seed = 1;
 };
 
@@ -65,21 +66,21 @@ class Restir {
   void forget_light_history() { di_.history.clear(); }
 
   // The reservoirs the last pass shaded with (empty before the first pass, or for GI without it).
-  const std::vector<DiReservoir>& di_reservoirs() const { return di_.history; }
-  const std::vector<DiReservoir>& gi_reservoirs() const { return gi_.history; }
+  const std::vector<ReuseReservoir>& di_reservoirs() const { return di_.history; }
+  const std::vector<ReuseReservoir>& gi_reservoirs() const { return gi_.history; }
   // This and last frame's packed surfaces with the frame's light placement and eye: what reuse's target
   // functions read.
-  DiDomain current_domain(const RestirFrame& frame, const GBuffer& g) const;
-  DiDomain previous_domain(const RestirFrame& frame, const GBuffer& g) const;
+  ReuseDomain current_domain(const RestirFrame& frame, const GBuffer& g) const;
+  ReuseDomain previous_domain(const RestirFrame& frame, const GBuffer& g) const;
 
  private:
   // Stage "<prefix>_history" where this pass reuses the chain's history (the first pass of a frame, with temporal
-  // reuse on and a history of this size): di_find_history into chain.history_pixel. Returns whether it ran.
-  bool find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix, const DiReuseParams& reuse,
+  // reuse on and a history of this size): find_history_pixels into chain.history_pixel. Returns whether it ran.
+  bool find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix, const ReuseParams& reuse,
                     int key, int pass, ReservoirChain& chain, FrameStats& stats) const;
   // `temporal`: find_history ran.
   void reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
-                       const DiReuseParams& reuse, int key, bool temporal, const std::vector<vec3>* unsampled,
+                       const ReuseParams& reuse, int key, bool temporal, const std::vector<vec3>* unsampled,
                        ReservoirChain& chain, FrameStats& stats, Image& sum);
 
   RestirSettings settings_;
@@ -93,7 +94,7 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
                   int pass, FrameStats& stats, Image& sum) {
   const int key = frame_index * 4096 + pass;
   CHECK(g.packed.size() == g.size());
-  const DiDomain current = current_domain(frame, g);
+  const ReuseDomain current = current_domain(frame, g);
   if (!settings_.with_gi || !settings_.gi_only) {
     DiParams params = settings_.di;
     params.seed = settings_.seed;
@@ -103,7 +104,7 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
       light_tiles_.build(view, sampler, g, params.light_tiles, params.light_tile_size, params.seed, key);
       tiles = &light_tiles_;
     }
-    DiReuseParams reuse = settings_.di_reuse;
+    ReuseParams reuse = settings_.di_reuse;
     reuse.seed = settings_.seed;
     // Temporal reuse's history found first: the light candidates take fewer where it is
     // (DiParams::history_light_candidates).
@@ -122,7 +123,7 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
     StageTimer timer(stats, "gi_samples");
     gi_initial_samples(view, sampler, g, current, params, key, gi_.initial, timer.rays(), timer.non_finite());
   }
-  DiReuseParams reuse = settings_.gi_reuse;
+  ReuseParams reuse = settings_.gi_reuse;
   reuse.seed = params.seed;
   const bool temporal = find_history(g, frame, "gi", reuse, key, pass, gi_, stats);
   reuse_and_shade(view, g, frame, "gi", reuse, key, temporal, nullptr, gi_, stats, sum);

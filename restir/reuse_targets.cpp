@@ -10,24 +10,23 @@ namespace candela {
 namespace {
 
 // Whether set_placed places input k of slot s anew on `lights`: a triangle light's sample that `lights` does not place
-// as its own frame did (di_placed_alike). Its light record is then read, which on `city` (104k lights) misses the
+// as its own frame did (placed_alike). Its light record is then read, which on `city` (104k lights) misses the
 // cache: prefetch_placed starts those loads for a whole row first.
 bool placed_anew(const ReuseRow& row, int k, int s, const LightList& lights) {
-  const DiReuseInput& in = row.inputs[k][s];
-  const DiSample& y = in.reservoir->y;
-  return (row.sampled[s] >> k & 1u) && y.light < lights.triangle_count() &&
-         !di_placed_alike(in.domain->lights, lights, y);
+  const ReuseInput& in = row.inputs[k][s];
+  const ReuseSample& y = in.reservoir->y;
+  return (row.sampled[s] >> k & 1u) && y.light < lights.triangle_count() && !placed_alike(in.domain->lights, lights, y);
 }
 void prefetch_placed(const ReuseRow& row, int k, int s, const LightList& lights) {
   if (placed_anew(row, k, s, lights)) lights.prefetch(row.inputs[k][s].reservoir->y.light);
 }
 
 // Slot s of `plane`: input k's sample as receivers whose frame placed the lights as `lights` did see it
-// (PlacedSample::at in di_reuse.cpp): the point it stores where `lights` places it alike (di_placed_alike), otherwise
+// (PlacedSample::at in reuse.cpp): the point it stores where `lights` places it alike (placed_alike), otherwise
 // the point its uniforms give on its light as `lights` placed it. Inactive where the input has no sample and for
 // punctual lights (left to the scalar path).
 void set_placed(const Scene& scene, const ReuseRow& row, int k, int s, const LightList& lights, CandidateLanes& plane) {
-  const DiSample& y = row.inputs[k][s].reservoir->y;
+  const ReuseSample& y = row.inputs[k][s].reservoir->y;
   if (placed_anew(row, k, s, lights))
     plane.set(s, lights.triangle_point(scene, y.light, y.uv));
   else if ((row.sampled[s] >> k & 1u) && (y.light == kSurfacePointSample || y.light < lights.triangle_count()))
@@ -41,7 +40,7 @@ void copy_reservoir_planes(int slots, ReuseRow& row) {
   for (int s = 0; s < slots; ++s) {
     uint32_t sampled = 0;
     for (int k = 0; k < row.count[s]; ++k) {
-      const DiReservoir& r = *row.inputs[k][s].reservoir;
+      const ReuseReservoir& r = *row.inputs[k][s].reservoir;
       row.W[k][s] = r.W, row.own[k][s] = r.p_hat_y;
       sampled |= uint32_t(r.W > 0.0f) << k;
     }
@@ -63,7 +62,7 @@ struct Planes {
 // p_0(y_k) of every slot and input k >= 1: the combining pixels' receivers built once (slot s combines pixel
 // first + s; a slot without inputs gets its pixel's receiver too, unread), every input's sample placed in plane
 // k (inactive where the slot has no input k), all planes in one call.
-void targets_at_combiners(const Scene& scene, const DiDomain& here, size_t first, int slots, int max_count,
+void targets_at_combiners(const Scene& scene, const ReuseDomain& here, size_t first, int slots, int max_count,
                           ReuseRow& row, Planes& planes) {
   for (int k = 1; k < max_count; ++k)
     for (int s = 0; s < slots; ++s)
@@ -102,9 +101,9 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
   auto queue = ray_queue16<uint32_t>(view.tracer, RayQuery::Occluded, answer);
   const LightList* own_placed_by = nullptr;
   for (int k = 1; k < max_count; ++k) {
-    const DiDomain* domain = nullptr;
+    const ReuseDomain* domain = nullptr;
     for (int s = 0; s < slots; ++s) {
-      const DiReuseInput& in = row.inputs[k][s];
+      const ReuseInput& in = row.inputs[k][s];
       const bool has = k < row.count[s];
       if (has) {
         CHECK(!domain || domain == in.domain);
@@ -127,7 +126,7 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
       if (k >= row.count[s]) planes.own.clear(s);  // no input k: stays so for the larger k
     build_receiver_lanes(planes.surfaces, domain->eye, slots, planes.others, planes.own.active);
     evaluate_candidate_lanes(planes.others, &planes.own, 1, slots, false);
-    // The shadow rays from input k's surfaces to y_0 as placed for them (di_shadow_ray's to a stored point).
+    // The shadow rays from input k's surfaces to y_0 as placed for them (sample_shadow_ray's to a stored point).
     if (visibility) shadow_ray_lanes(planes.others, planes.own, view.tracer.offset_epsilon(), slots, planes.rays);
     for (int s = 0; s < slots; ++s)
       if (k < row.count[s] && planes.own.active[s] > 0.0f) {
@@ -145,7 +144,7 @@ uint64_t targets_of_combiners(const SceneView& view, int slots, int max_count, b
 uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combiner, bool visibility, ReuseRow& row) {
   thread_local Planes planes;
   int max_count = 0;
-  const DiDomain* here = nullptr;
+  const ReuseDomain* here = nullptr;
   size_t first = 0;  // the pixel of slot 0: the row's combining pixels are consecutive
   for (int s = 0; s < slots; ++s) {
     row.known_at[s] = row.known_of[s] = row.known_visible[s] = row.visible[s] = 0;

@@ -1,6 +1,6 @@
 #pragma once
 // The target function values that reuse reads, evaluated in SIMD lanes for a tile row of combinations at
-// once (one pixel per lane) before the combinations run. A combination (di_reuse.cpp) resamples each input
+// once (one pixel per lane) before the combinations run. A combination (reuse.cpp) resamples each input
 // k's sample y_k at the combining pixel (input 0), which needs p_0(y_k), and with pairwise MIS weighs the
 // combining pixel's own sample by every other input's target, p_k(y_0): 2 evaluations per input, each at
 // a receiver that is used for nothing else. Scalar, every one rebuilt the receiver from its packed surface
@@ -11,7 +11,7 @@
 #include <cstdint>
 
 #include "engine/scene.h"
-#include "restir/di_reuse.h"
+#include "restir/reuse.h"
 #include "restir/target_lanes.h"
 
 namespace candela {
@@ -27,7 +27,7 @@ inline constexpr int kMaxReuseInputs = 32;  // a pixel and up to 31 neighbours
 // per slot.)
 struct ReuseRow {
   int count[kLaneSlots];
-  DiReuseInput inputs[kMaxReuseInputs][kLaneSlots];
+  ReuseInput inputs[kMaxReuseInputs][kLaneSlots];
   // Copied from the inputs' reservoirs by evaluate_reuse_targets, which reads them first, so that the later passes over
   // the row (the placements, targets_known, the combination lanes) read planes instead of following each input's
   // pointer again: W[k][s] and own[k][s] are input k's W and p_hat_y (k < count[s]); bit k of sampled[s]: its W > 0.

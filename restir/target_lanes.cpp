@@ -1,8 +1,9 @@
 // The candidate-lanes kernel (target_lanes.h), compiled once per instruction set by Highway's
 // foreach_target.h and dispatched at run time (the BSDF arithmetic: engine/bsdf_lanes-inl.h).
-// Each step names the scalar function whose arithmetic it repeats, in the same order (restir/di.h di_contribution,
-// engine/lights.h light_sample_towards, engine/bsdf.cpp Bsdf::eval and Bsdf::pdf, engine/ggx_albedo.h
-// GgxAlbedoRow::at, engine/tracer.h Tracer::spawn_ray_to and offset_point through engine/ray_lanes-inl.h).
+// Each step names the scalar function whose arithmetic it repeats, in the same order (restir/sample.h
+// sample_contribution, engine/lights.h light_sample_towards, engine/bsdf.cpp Bsdf::eval and Bsdf::pdf,
+// engine/ggx_albedo.h GgxAlbedoRow::at, engine/tracer.h Tracer::spawn_ray_to and offset_point through
+// engine/ray_lanes-inl.h).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "restir/target_lanes.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -16,7 +17,7 @@ namespace candela {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// One vector of slots [s, s + lanes) of one candidate plane: light_sample_towards, then di_contribution's
+// One vector of slots [s, s + lanes) of one candidate plane: light_sample_towards, then sample_contribution's
 // value with the BSDF planes `bsdf` of the receivers (where `valid`; its lanes hold garbage elsewhere).
 struct Unshadowed {
   V3 wo, wi;
@@ -48,7 +49,7 @@ Unshadowed unshadowed(D d, const ReceiverLanes& r, const BsdfLanes& bsdf, const 
   return u;
 }
 
-// One vector of one candidate plane: the value with the target BSDF and its luminance (di_target), then
+// One vector of one candidate plane: the value with the target BSDF and its luminance (sample_target), then
 // (with_bsdf_pdf) the exact BSDF's density in area measure. A vector without an active slot gets its zeros
 // unevaluated: a plane is evaluated for a whole row where only some pixels drew that many candidates (most
 // pixels with history draw one), and these are the values the masks below would give it.

@@ -1,6 +1,6 @@
 #pragma once
-// ReSTIR DI's light candidates evaluated in SIMD lanes: the target function p_hat (di_target of
-// di_contribution) and the BSDF's area density at each candidate, for one tile row of pixels at a time,
+// ReSTIR DI's light candidates evaluated in SIMD lanes: the target function p_hat (sample_target of
+// sample_contribution) and the BSDF's area density at each candidate, for one tile row of pixels at a time,
 // laid out as structure-of-arrays planes so that one vector holds the same term of 8 (AVX2) or 16
 // (AVX-512) pixels. The kernel is written with Google Highway and picks the widest instruction set of the
 // running CPU (runtime dispatch). It performs the scalar code's operations in the scalar code's order,
@@ -57,7 +57,7 @@ struct CandidateLanes {
   }
 };
 
-// The unshadowed contribution of one sample per pixel of a batch (di_contribution's value), per channel.
+// The unshadowed contribution of one sample per pixel of a batch (sample_contribution's value), per channel.
 struct ContributionLanes {
   alignas(64) float value[3][kLaneSlots];
 };
@@ -67,7 +67,7 @@ struct ContributionLanes {
 // and 8 table gathers, in lanes.
 void evaluate_candidate_lanes(const ReceiverLanes& receivers, CandidateLanes* candidates, int count, int slots,
                               bool with_bsdf_pdf);
-// di_contribution's value at the receivers' exact BSDFs (their position, geometric normal, wo and exact planes)
+// sample_contribution's value at the receivers' exact BSDFs (their position, geometric normal, wo and exact planes)
 // of the active points of slots [0, slots) of `samples`; inactive slots get 0. The final shading. Cost per
 // sample: ~80 flops and 4 table gathers, in lanes.
 void evaluate_exact_contribution_lanes(const ReceiverLanes& receivers, const CandidateLanes& samples, int slots,

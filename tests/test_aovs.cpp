@@ -38,7 +38,7 @@ TEST(Aovs, EveryNameIsOneAov) {
 TEST(Aovs, PlanesHoldTheFramesValues) {
   const Renderer renderer = rendered(Method::RestirDi);
   const GBuffer& g = renderer.gbuffer();
-  const std::vector<DiReservoir>& reservoirs = renderer.di_reservoirs();
+  const std::vector<ReuseReservoir>& reservoirs = renderer.di_reservoirs();
   ASSERT_EQ(reservoirs.size(), g.size());
   EXPECT_EQ(aov_image(renderer, Aov::Radiance).pixels, renderer.image().pixels);
   const Image albedo = aov_image(renderer, Aov::Albedo), normal = aov_image(renderer, Aov::Normal),

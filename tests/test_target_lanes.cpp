@@ -1,9 +1,9 @@
 // ReSTIR's SIMD lanes (restir/target_lanes.h, receiver_lanes.h, reuse_targets.h, neighbour_lanes.h, and the BSDF
 // directions of engine/bsdf_lanes.h) against the scalar
-// reference (di_contribution, Bsdf::eval, Bsdf::pdf, Tracer::spawn_ray_to): the kernel repeats the scalar operations in
-// the same order without fused multiply-adds, so the bound is exact equality (0 ulp), for p_hat and the BSDF's area
-// density alike (where p_hat > 0, the only place it is read); a kernel that fused a multiply-add or reordered a sum
-// fails here.
+// reference (sample_contribution, Bsdf::eval, Bsdf::pdf, Tracer::spawn_ray_to): the kernel repeats the scalar
+// operations in the same order without fused multiply-adds, so the bound is exact equality (0 ulp), for p_hat and the
+// BSDF's area density alike (where p_hat > 0, the only place it is read); a kernel that fused a multiply-add or
+// reordered a sum fails here.
 #include <gtest/gtest.h>
 
 #include <limits>
@@ -147,7 +147,7 @@ TEST(TargetLanes, KernelGivesTheScalarBitsOnRandomInputs) {
 }
 
 // Receivers built in lanes from random packed surfaces (normals all over the octahedron, every material
-// byte including the extremes, the eye on either side) against di_receiver and Bsdf::wo_terms: every plane
+// byte including the extremes, the eye on either side) against reuse_receiver and Bsdf::wo_terms: every plane
 // the target evaluation reads holds the scalar bits (bound: 0 ulp).
 TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
   const Scene scene = make_cornell_scene();
@@ -176,9 +176,9 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
       if (batch % 2) surface.material = (surface.material & ~0xffu) | batch_roughness;
       packed->set(s, surface);
     }
-    const DiDomain domain{surfaces, kLaneSlots, 1, eye, lights};
+    const ReuseDomain domain{surfaces, kLaneSlots, 1, eye, lights};
     for (int s = 0; s < kLaneSlots; ++s) {
-      const DiReceiver r = di_receiver(domain, size_t(s));
+      const ReuseReceiver r = reuse_receiver(domain, size_t(s));
       const BsdfWoTerms t = r.bsdf.wo_terms(r.wo);
       scalar->set(s, r.position, r.geometric_normal, r.wo, t, t);
       lit += t.cos_o > 0.0f;
@@ -240,9 +240,9 @@ TEST(TargetLanes, ReceiversSkipTheVectorsNobodyWants) {
 
 // The exact receivers' BSDF terms built in lanes from G-buffer surfaces (random positions, normals, colours,
 // roughness, metallic and specular factors with their extremes, coloured dielectric F0s, the eye on either
-// side) against di_exact_receiver and Bsdf::wo_terms, including the two terms only BSDF sampling reads (G1 and
+// side) against exact_receiver and Bsdf::wo_terms, including the two terms only BSDF sampling reads (G1 and
 // the lobe probability), and the whole receivers of the final shading (build_exact_receivers) with their
-// contributions at random light points (evaluate_exact_contribution_lanes against di_contribution): every
+// contributions at random light points (evaluate_exact_contribution_lanes against sample_contribution): every
 // plane and value holds the scalar bits (bound: 0 ulp).
 TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
   const Scene scene = make_cornell_scene();
@@ -259,7 +259,7 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
   auto surfaces = std::make_unique<ExactSurfaceLanes>();
   auto points = std::make_unique<CandidateLanes>();
   auto contributions = std::make_unique<ContributionLanes>();
-  std::vector<DiReceiver> receivers(kLaneSlots);
+  std::vector<ReuseReceiver> receivers(kLaneSlots);
   int compared = 0, lit = 0, contributing = 0;
   for (int batch = 0; batch < 100; ++batch) {
     const vec3 eye = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 6.0f;
@@ -273,7 +273,7 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
       if (batch % 2) g.material[size_t(s)].x = batch_roughness;  // x: the roughness
       g.specular_f0[size_t(s)] = vec3(factor(), factor(), factor());
       g.instance[size_t(s)] = 0;
-      const DiReceiver& r = receivers[size_t(s)] = di_exact_receiver(g, eye, lights, size_t(s));
+      const ReuseReceiver& r = receivers[size_t(s)] = exact_receiver(g, eye, lights, size_t(s));
       scalar->exact.set(s, r.bsdf.wo_terms(r.wo));
       lit += scalar->exact.cos_o[s] > 0.0f;
       // A light point mostly in front of the surface (one- or two-sided); some inactive.
@@ -294,10 +294,10 @@ TEST(TargetLanes, ExactReceiversGiveTheScalarBitsOnRandomSurfaces) {
       const BsdfLanes &a = lanes->exact, &b = scalar->exact;
       for (int s = 0; s < kLaneSlots; ++s) {
         compared += expect_same_bits(bsdf_terms(a, b, s, true), a.albedo_row[s], b.albedo_row[s], target, batch, s);
-        const DiReceiver& r = receivers[size_t(s)];
+        const ReuseReceiver& r = receivers[size_t(s)];
         Terms terms = bsdf_terms(shading->exact, b, s, true);
         const vec3 value = points->active[s] > 0.0f
-                               ? di_contribution(r, DiSample{0, vec2(0.0f), points->point(s), 0}).value
+                               ? sample_contribution(r, ReuseSample{0, vec2(0.0f), points->point(s), 0}).value
                                : vec3(0.0f);
         contributing += max_component(value) > 0.0f;
         const float* position[3] = {shading->px, shading->py, shading->pz};
@@ -384,7 +384,7 @@ TEST(TargetLanes, BsdfDirectionsGiveTheScalarBits) {
 // ulps of it). The bound is the same answer for every pair.
 TEST(TargetLanes, NeighbourSimilarityGivesTheScalarAnswers) {
   Rng rng(4242, 7);
-  DiReuseParams params;
+  ReuseParams params;
   auto lanes = std::make_unique<NeighbourLanes>();
   std::vector<PackedSurface> pixels(kLaneSlots), neighbours(size_t(kMaxNeighbours) * kLaneSlots);
   int pairs = 0, similar = 0, depth_edges = 0;
@@ -557,7 +557,7 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
                         Case{"city", "restir-di", "pairwise"}, Case{"manylights", "restir-di", "basic"},
                         Case{"cornell", "restir", "pairwise"}, Case{"manylights", "restir", "pairwise", 3},
                         Case{"cornell", "restir-di", "pairwise", 1, 31}, Case{"city", "restir-di", "pairwise", 2}}) {
-    std::vector<DiReservoir> result[2], gi[2];
+    std::vector<ReuseReservoir> result[2], gi[2];
     Image image[2];
     for (int simd = 0; simd < 2; ++simd) {
       RenderSettings settings = testing::settings({{"width", 96},
@@ -587,7 +587,7 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
       ASSERT_EQ(r[0].size(), r[1].size());
       int with_sample = 0;
       for (size_t i = 0; i < r[0].size(); ++i) {
-        const DiReservoir &a = r[0][i], &b = r[1][i];
+        const ReuseReservoir &a = r[0][i], &b = r[1][i];
         with_sample += a.W > 0.0f;
         ASSERT_TRUE(a.y.light == b.y.light && a.y.uv == b.y.uv && same_bits(a.W, b.W) &&
                     same_bits(a.p_hat_y, b.p_hat_y) && same_bits(a.M, b.M))
@@ -602,8 +602,8 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
 }
 
 // ReSTIR GI's initial samples (gi_initial_samples: the first rays' BSDF terms and densities, the paths' BSDF work
-// and the samples' targets in lanes) against the scalar code they stand for, written out here: di_exact_receiver
-// and Bsdf::sample for the first ray, trace_path (one ray at a time, scalar BSDFs) for the path, di_contribution
+// and the samples' targets in lanes) against the scalar code they stand for, written out here: exact_receiver
+// and Bsdf::sample for the first ray, trace_path (one ray at a time, scalar BSDFs) for the path, sample_contribution
 // at the packed receiver for the target. The bound is exact equality of every reservoir.
 TEST(TargetLanes, GiSamplesEqualTheScalarPath) {
   for (const char* name : {"manylights", "city"}) {
@@ -617,10 +617,10 @@ TEST(TargetLanes, GiSamplesEqualTheScalarPath) {
     GBuffer g;
     RayCounter rays;
     trace_gbuffer(scene, tracer, camera, camera, GBufferParams{3, frame, true, true, true}, g, rays);
-    const DiDomain domain{g.packed, w, h, camera.position(), lights};
+    const ReuseDomain domain{g.packed, w, h, camera.position(), lights};
     GiParams params;
     params.seed = 11;
-    std::vector<DiReservoir> lanes;
+    std::vector<ReuseReservoir> lanes;
     Counter non_finite;
     gi_initial_samples(view, sampler, g, domain, params, frame, lanes, rays, non_finite);
     ASSERT_EQ(lanes.size(), g.size());
@@ -629,11 +629,11 @@ TEST(TargetLanes, GiSamplesEqualTheScalarPath) {
     path.rr_start_depth = params.rr_start_depth;
     int with_sample = 0;
     for (size_t i = 0; i < g.size(); ++i) {
-      DiReservoir r;
+      ReuseReservoir r;
       if (g.hit(i)) {
         r.M = 1.0f;
         Rng rng = Rng::for_key(params.seed, i, uint64_t(frame), 0x61);
-        const DiReceiver receiver = di_exact_receiver(g, domain.eye, lights, i);
+        const ReuseReceiver receiver = exact_receiver(g, domain.eye, lights, i);
         vec2 ub(rng.next_float(), rng.next_float()), tag(rng.next_float(), rng.next_float());
         float lobe = rng.next_float(), u = rng.next_float();
         BsdfSample bs;
@@ -647,8 +647,8 @@ TEST(TargetLanes, GiSamplesEqualTheScalarPath) {
             const vec3 d = x_s->position - receiver.position;
             const float d2 = glm::dot(d, d), cos_s = std::abs(glm::dot(x_s->geometric_normal, d)) / std::sqrt(d2);
             const float p_area = bs.pdf * cos_s / d2;
-            DiSample s{kSurfacePointSample, tag, LightPoint{x_s->position, x_s->geometric_normal, L, false}, 0};
-            const float p_hat = di_target(di_contribution(di_receiver(domain, i), s));
+            ReuseSample s{kSurfacePointSample, tag, LightPoint{x_s->position, x_s->geometric_normal, L, false}, 0};
+            const float p_hat = sample_target(sample_contribution(reuse_receiver(domain, i), s));
             if (p_area > 0.0f && p_hat > 0.0f) {
               r.update(s, p_hat / p_area, p_hat, u);
               r.finalize();
@@ -656,7 +656,7 @@ TEST(TargetLanes, GiSamplesEqualTheScalarPath) {
           }
         }
       }
-      const DiReservoir& a = lanes[i];
+      const ReuseReservoir& a = lanes[i];
       ASSERT_TRUE(a.y.light == r.y.light && a.y.uv == r.y.uv && same_bits(a.W, r.W) && same_bits(a.w_sum, r.w_sum) &&
                   same_bits(a.p_hat_y, r.p_hat_y) && same_bits(a.M, r.M) &&
                   same_bits(a.y.point.radiance.x, r.y.point.radiance.x) &&

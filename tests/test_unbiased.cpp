@@ -45,13 +45,13 @@ testing::Runs path_traced_runs(const Scene& scene, int w, int h, int depth, int 
 
 // ReSTIR DI with temporal and spatial reuse on still manylights (256 lights), 48x27, 192 runs of 6
 // frames, against 64 runs of 64 direct-light paths per pixel (path tracer, max depth 1), each mode with the default
-// two shaded samples (DiReuseParams::shaded_samples) unless it says otherwise. Unbiased:
+// two shaded samples (ReuseParams::shaded_samples) unless it says otherwise. Unbiased:
 // basic and pairwise, without visibility anywhere and with visibility-tested candidates plus visibility in
 // the weights, pairwise with BSDF candidates drawn at probability 0.3 (counted as 0.3 of a candidate), and pairwise
-// with three shaded samples of each spatial combination (DiReuseParams::shaded_samples, each weighted 1/3). Known
+// with three shaded samples of each spatial combination (ReuseParams::shaded_samples, each weighted 1/3). Known
 // biased, so the harness must reject them here: visibility-tested candidates with weights that ignore visibility, for
 // basic (the broken weight) and for none (1/M), and the default, which drops the samples shading found occluded from
-// the history (DiReuseParams::drop_occluded: the reservoirs reused next are then visibility-tested, as with visible
+// the history (ReuseParams::drop_occluded: the reservoirs reused next are then visibility-tested, as with visible
 // candidates). Measured (2026-12-01, drop occluded 2026-12-02): the unbiased four within 0.12% (detecting 0.8-0.9%),
 // the biased three 1.3-1.5% dark at 8-9.5 standard errors (drop occluded -1.48%, z -9.5). Plain "none" is printed, not
 // judged: where every neighbour's target has the same support, 1/M weights sum to one too (measured -0.08%).
@@ -67,7 +67,7 @@ TEST(Unbiased, RestirDi) {
     Expect expect;
     double bsdf_probability = 1.0;
     int history_candidates = DiParams{}.history_light_candidates;  // pixels with history draw this many
-    int shaded_samples = DiReuseParams{}.shaded_samples;
+    int shaded_samples = ReuseParams{}.shaded_samples;
   };
   for (Mode mode :
        {Mode{"basic", "basic", false, false, false, Expect::Unbiased},

@@ -1,4 +1,4 @@
-// ReSTIR's reuse (restir/di_reuse.h).
+// ReSTIR's reuse (restir/reuse.h).
 //
 // MisWeights: the resampling MIS weights of ReSTIR's reuse, checked exactly (no statistics): for real combinations
 // built from a rendered frame, the weights every input gives one sample must sum to one wherever the
@@ -16,7 +16,7 @@
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
 #include "engine/image_metrics.h"
-#include "restir/di_reuse.h"
+#include "restir/reuse.h"
 #include "tests/render_helpers.h"
 #include "tests/settings_builder.h"
 
@@ -42,16 +42,16 @@ struct TargetAt {
   float p;
   bool visible;
 };
-TargetAt target_and_visibility(const Renderer& renderer, const DiDomain& domain, size_t pixel, const DiSample& y,
+TargetAt target_and_visibility(const Renderer& renderer, const ReuseDomain& domain, size_t pixel, const ReuseSample& y,
                                const LightList& from) {
-  DiSample placed = y;
+  ReuseSample placed = y;
   if (&domain.lights != &from && y.light != kSurfacePointSample)
     placed = di_resolve(renderer.scene(), domain.lights, y.light, y.uv);
-  const DiReceiver r = di_receiver(domain, pixel);
-  const DiContribution c = di_contribution(r, placed);
+  const ReuseReceiver r = reuse_receiver(domain, pixel);
+  const SampleContribution c = sample_contribution(r, placed);
   const bool visible =
       !renderer.tracer().occluded(shadow_ray(renderer.tracer(), r.position, r.geometric_normal, c.light));
-  return {di_target(c), visible};
+  return {sample_target(c), visible};
 }
 
 // Whether surface b may share samples with a (depth within 10%, normals within cos 0.9: the reuse defaults).
@@ -65,10 +65,10 @@ struct Tally {
 
 // For every 5th pixel with a sample: the pixel's reservoir (input 0), up to 5 similar neighbours within 3
 // pixels, and last frame's reservoir of the same pixel (camera still, lights moved). Every input's sample
-// y is weighed by all inputs (di_mis_weights) and checked.
-Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& current,
-                    const std::vector<DiReservoir>& history, const DiReuseParams& params, const char* what) {
-  const DiDomain now = renderer.current_domain(), before = renderer.previous_domain();
+// y is weighed by all inputs (reuse_mis_weights) and checked.
+Tally check_weights(const Renderer& renderer, const std::vector<ReuseReservoir>& current,
+                    const std::vector<ReuseReservoir>& history, const ReuseParams& params, const char* what) {
+  const ReuseDomain now = renderer.current_domain(), before = renderer.previous_domain();
   EXPECT_NE(&now.lights, &before.lights) << "the lights must have moved between the two frames";
   const int w = now.width, h = now.height;
   const Camera camera(renderer.scene().default_camera(), w, h);  // unused by the weights
@@ -78,7 +78,7 @@ Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& cu
   for (size_t i = 0; i < current.size() && failures < 10; i += 5) {
     if (!now.surfaces[i].hit() || current[i].W <= 0.0f) continue;
     const int x = int(i % w), y = int(i / w);
-    std::vector<DiReuseInput> inputs{{&current[i], &now, i, current[i].M}};
+    std::vector<ReuseInput> inputs{{&current[i], &now, i, current[i].M}};
     for (int r = 1; r <= 3 && inputs.size() < 6; ++r)
       for (int dy = -r; dy <= r && inputs.size() < 6; ++dy)
         for (int dx = -r; dx <= r && inputs.size() < 6; ++dx) {
@@ -93,7 +93,7 @@ Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& cu
     if (count < 3) continue;
     ++tally.combinations;
     for (int source = 0; source < count; ++source) {
-      const DiReservoir& res = *inputs[source].reservoir;
+      const ReuseReservoir& res = *inputs[source].reservoir;
       if (res.W <= 0.0f) continue;
       ++tally.samples;
       std::vector<TargetAt> at(count);
@@ -104,13 +104,13 @@ Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& cu
       EXPECT_NEAR(res.p_hat_y, at[source].p, 1e-5f * std::max(1.0f, at[source].p))
           << what << ": pixel " << i << " input " << source;
       float weights[32];
-      di_mis_weights(view, inputs.data(), count, source, params, weights);
+      reuse_mis_weights(view, inputs.data(), count, source, params, weights);
       float sum = 0.0f;
       for (int z = 0; z < count; ++z) {
         sum += weights[z];
         // Zero where the input's target is zero (times visibility where the weights use it; pairwise
         // leaves the canonical input's visibility out).
-        const bool uses_visibility = params.mis_visibility && (params.bias == DiBiasCorrection::Basic || z > 0);
+        const bool uses_visibility = params.mis_visibility && (params.bias == BiasCorrection::Basic || z > 0);
         const bool zero = at[z].p <= 0.0f || (uses_visibility && !at[z].visible);
         tally.zero_targets += at[z].p <= 0.0f;
         tally.occluded += at[z].p > 0.0f && !at[z].visible;
@@ -122,7 +122,7 @@ Tally check_weights(const Renderer& renderer, const std::vector<DiReservoir>& cu
       }
       // One where the combining pixel's integrand can be non-zero at y.
       const bool counts =
-          at[0].p > 0.0f && (!params.mis_visibility || params.bias == DiBiasCorrection::Pairwise || at[0].visible);
+          at[0].p > 0.0f && (!params.mis_visibility || params.bias == BiasCorrection::Pairwise || at[0].visible);
       if (counts && std::abs(sum - 1.0f) > 1e-5f) {
         ADD_FAILURE() << what << ": pixel " << i << " sample of input " << source << " (" << count
                       << " inputs): weights sum to " << sum;
@@ -147,13 +147,13 @@ TEST(MisWeights, EveryInputsWeightsOfASampleSumToOne) {
                                               {"jitter", false},
                                               {"accumulate", false}}));
   testing::render_checked(renderer, 0, 0.0f, scene.default_camera());
-  const std::vector<DiReservoir> di_history = renderer.di_reservoirs(), gi_history = renderer.gi_reservoirs();
+  const std::vector<ReuseReservoir> di_history = renderer.di_reservoirs(), gi_history = renderer.gi_reservoirs();
   testing::render_checked(renderer, 1, 1.0f / 30.0f, scene.default_camera());
-  for (DiBiasCorrection bias : {DiBiasCorrection::Basic, DiBiasCorrection::Pairwise})
+  for (BiasCorrection bias : {BiasCorrection::Basic, BiasCorrection::Pairwise})
     for (bool visibility : {false, true}) {
       const std::string mode =
-          std::string(bias == DiBiasCorrection::Basic ? "basic" : "pairwise") + (visibility ? "+visibility" : "");
-      DiReuseParams di = renderer.settings().di_reuse, gi = renderer.settings().gi_reuse;
+          std::string(bias == BiasCorrection::Basic ? "basic" : "pairwise") + (visibility ? "+visibility" : "");
+      ReuseParams di = renderer.settings().di_reuse, gi = renderer.settings().gi_reuse;
       di.bias = gi.bias = bias;
       di.mis_visibility = gi.mis_visibility = visibility;
       Tally d = check_weights(renderer, renderer.di_reservoirs(), di_history, di, ("DI " + mode).c_str());
@@ -218,7 +218,7 @@ TEST(RestirDiReuse, DisocclusionBoostAddsNeighbours) {
 // and zeroes values.
 TEST(RestirDiReuse, BoilingFilterDropsOutliersOnly) {
   const int w = 16, h = 16;
-  std::vector<DiReservoir> reservoirs(size_t(w) * h);
+  std::vector<ReuseReservoir> reservoirs(size_t(w) * h);
   auto set = [&](size_t i, float p_hat, float W) {
     reservoirs[i].p_hat_y = p_hat;
     reservoirs[i].W = W;
@@ -230,10 +230,10 @@ TEST(RestirDiReuse, BoilingFilterDropsOutliersOnly) {
   set(a, 0.01f, 1000.0f);
   set(b, 100.0f, 1.0f);
   set(c, 3.0f, 4.0f);
-  const std::vector<DiReservoir> before = reservoirs;
+  const std::vector<ReuseReservoir> before = reservoirs;
   std::vector<PackedSurface> surfaces(reservoirs.size());
   LightList lights;
-  di_boiling_filter(DiDomain{surfaces, w, h, vec3(0.0f), lights}, 10.0f, reservoirs);
+  boiling_filter(ReuseDomain{surfaces, w, h, vec3(0.0f), lights}, 10.0f, reservoirs);
   EXPECT_EQ(reservoirs[b].W, 0.0f);
   EXPECT_EQ(reservoirs[b].w_sum, 0.0f);
   EXPECT_EQ(reservoirs[b].M, 1.0f);  // kept: the reservoir still stands for its candidates
@@ -279,7 +279,7 @@ TEST(RestirDiReuse, VisibilityReuseSavesShadowRays) {
   EXPECT_LT(rel_mse, 0.01);
 }
 
-// Temporal reuse ages last frame's sample by a frame each time it carries it on (DiReuseInput::age_step); spatial
+// Temporal reuse ages last frame's sample by a frame each time it carries it on (ReuseInput::age_step); spatial
 // reuse keeps ages. On a still camera samples grow older than a frame but none older than the frames rendered, and with
 // max_sample_age none older than the limit (temporal reuse drops older history).
 TEST(RestirDiReuse, HistorySamplesAgeByAFramePerReuse) {
@@ -294,7 +294,7 @@ TEST(RestirDiReuse, HistorySamplesAgeByAFramePerReuse) {
       testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
     int age = 0;
     aged = 0;
-    for (const DiReservoir& r : renderer.di_reservoirs())
+    for (const ReuseReservoir& r : renderer.di_reservoirs())
       if (r.W > 0.0f) age = std::max(age, int(r.y.age)), aged += r.y.age >= 2;
     return age;
   };

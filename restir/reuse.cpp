@@ -1,8 +1,9 @@
-#include "restir/di_reuse.h"
+#include "restir/reuse.h"
 
 #include "engine/check.h"
 #include "engine/parallel.h"
 #include "engine/prefetch.h"
+#include "restir/di.h"
 #include "restir/neighbour_lanes.h"
 #include "restir/resample_lanes.h"
 #include "restir/reuse_targets.h"
@@ -36,31 +37,31 @@ const std::vector<vec2>& neighbour_offsets() {
 }
 
 // A sample of input k as seen by the receiver of input z: samples hold their point as placed in their
-// own frame; it is re-placed only where z's frame's lights do not place it alike (di_placed_alike: moving lights,
+// own frame; it is re-placed only where z's frame's lights do not place it alike (placed_alike: moving lights,
 // temporal reuse).
 struct PlacedSample {
-  const DiSample& own;  // as stored by its input
+  const ReuseSample& own;  // as stored by its input
   const LightList* own_lights;
-  const DiSample& here;  // placed for the combining pixel (input 0)
+  const ReuseSample& here;  // placed for the combining pixel (input 0)
   const LightList* here_lights;
-  const DiSample& at(const LightList* lights, const Scene& scene, DiSample& scratch) const {
+  const ReuseSample& at(const LightList* lights, const Scene& scene, ReuseSample& scratch) const {
     if (lights == here_lights) return here;
-    if (di_placed_alike(*own_lights, *lights, own)) return own;
+    if (placed_alike(*own_lights, *lights, own)) return own;
     scratch = di_resolve(scene, *lights, own.light, own.uv);
     return scratch;
   }
 };
 
-float target_at(const SceneView& view, const DiReceiver& receiver, const PlacedSample& y) {
-  DiSample scratch;
-  return di_target(di_contribution(receiver, y.at(receiver.lights, view.scene, scratch)));
+float target_at(const SceneView& view, const ReuseReceiver& receiver, const PlacedSample& y) {
+  ReuseSample scratch;
+  return sample_target(sample_contribution(receiver, y.at(receiver.lights, view.scene, scratch)));
 }
 
 // Whether input z's surface does not see the sample (one shadow ray, against this frame's geometry).
-bool occluded_from(const SceneView& view, const DiReuseInput& z, const PlacedSample& y) {
-  DiSample scratch;
-  const DiSample& placed = y.at(&z.domain->lights, view.scene, scratch);
-  return view.tracer.occluded(di_shadow_ray(view.tracer, z.domain->surfaces[z.pixel], z.domain->lights, placed));
+bool occluded_from(const SceneView& view, const ReuseInput& z, const PlacedSample& y) {
+  ReuseSample scratch;
+  const ReuseSample& placed = y.at(&z.domain->lights, view.scene, scratch);
+  return view.tracer.occluded(sample_shadow_ray(view.tracer, z.domain->surfaces[z.pixel], z.domain->lights, placed));
 }
 
 // A slot of a row (ReuseRow) whose targets evaluate_reuse_targets evaluated beforehand.
@@ -76,13 +77,13 @@ struct SlotTargets {
 // constructing an array of 32 receivers per pixel cost more than using them.
 class InputTargets {
  public:
-  InputTargets(const DiReuseInput* inputs, int count, const SlotTargets* lanes) : inputs_(inputs), lanes_(lanes) {
-    thread_local std::vector<DiReceiver> storage(kMaxReuseInputs);
+  InputTargets(const ReuseInput* inputs, int count, const SlotTargets* lanes) : inputs_(inputs), lanes_(lanes) {
+    thread_local std::vector<ReuseReceiver> storage(kMaxReuseInputs);
     receivers_ = storage.data();
     std::fill(built_, built_ + count, false);
   }
-  const DiReceiver& receiver(int z) {
-    if (!built_[z]) receivers_[z] = di_receiver(*inputs_[z].domain, inputs_[z].pixel), built_[z] = true;
+  const ReuseReceiver& receiver(int z) {
+    if (!built_[z]) receivers_[z] = reuse_receiver(*inputs_[z].domain, inputs_[z].pixel), built_[z] = true;
     return receivers_[z];
   }
   float at(const SceneView& view, int z, int source, const PlacedSample& y) {
@@ -100,15 +101,15 @@ class InputTargets {
   }
 
  private:
-  const DiReuseInput* inputs_;
+  const ReuseInput* inputs_;
   const SlotTargets* lanes_;
-  DiReceiver* receivers_;
+  ReuseReceiver* receivers_;
   bool built_[kMaxReuseInputs];
 };
 
 // p_z(y): input z's target at sample y of input `source`, as the MIS weights use it. The combining
 // pixel's value (z = 0) is known already, and so is the source's own: the one its reservoir stored.
-float input_target(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int z, int source,
+float input_target(const SceneView& view, const ReuseInput* inputs, InputTargets& targets, int z, int source,
                    const PlacedSample& y, float p_hat_here) {
   if (z == 0) return p_hat_here;
   if (z == source) return inputs[source].reservoir->p_hat_y;
@@ -117,7 +118,7 @@ float input_target(const SceneView& view, const DiReuseInput* inputs, InputTarge
 
 // Whether y is visible from input z's surface: the spatial pass's answer for a source's own sample when
 // it has one, or the row's for the combining pixel's sample, otherwise one shadow ray (counted in `rays`).
-bool input_sees(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int z, int source,
+bool input_sees(const SceneView& view, const ReuseInput* inputs, InputTargets& targets, int z, int source,
                 const PlacedSample& y, uint64_t& rays) {
   if (z == source && inputs[z].own_visible >= 0) return inputs[z].own_visible == 1;
   if (const int known = source == 0 ? targets.combiner_visible_from(z) : -1; known >= 0) return known == 1;
@@ -129,7 +130,7 @@ bool input_sees(const SceneView& view, const DiReuseInput* inputs, InputTargets&
 // sample of input `source`. Evaluates every input's target, with `visibility` times the visibility of y
 // from each input's surface (Bitterli et al. 2020, sec. 4.3: unbiased also when reservoirs were
 // visibility-tested), tracing up to `count` rays.
-float basic_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int count, int source,
+float basic_weight(const SceneView& view, const ReuseInput* inputs, InputTargets& targets, int count, int source,
                    int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   float numerator = 0.0f, denominator = 0.0f;
   for (int z = 0; z < count; ++z) {
@@ -156,7 +157,7 @@ float basic_weight(const SceneView& view, const DiReuseInput* inputs, InputTarge
 // they did darkened the image; using V_i in one formula only made the weights of a sample sum to more
 // than one, which temporal reuse amplified without bound (measured). p_c needs no visibility: where y is
 // occluded from the canonical pixel, it shades to zero whatever its weight.
-float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int count, int source,
+float pairwise_weight(const SceneView& view, const ReuseInput* inputs, InputTargets& targets, int count, int source,
                       int role, const PlacedSample& y, float p_hat_here, bool visibility, uint64_t& rays) {
   const int n = count - 1;
   if (n == 0) return 1.0f;
@@ -179,32 +180,32 @@ float pairwise_weight(const SceneView& view, const DiReuseInput* inputs, InputTa
 
 // The weight m_role(y) of params.bias for the sample y of input `source`, placed for input 0 (where
 // input 0's target is p_hat_here).
-float mis_weight(const SceneView& view, const DiReuseInput* inputs, InputTargets& targets, int count, int source,
-                 int role, const PlacedSample& y, float p_hat_here, const DiReuseParams& params, uint64_t& rays) {
+float mis_weight(const SceneView& view, const ReuseInput* inputs, InputTargets& targets, int count, int source,
+                 int role, const PlacedSample& y, float p_hat_here, const ReuseParams& params, uint64_t& rays) {
   switch (params.bias) {
-    case DiBiasCorrection::None: {
+    case BiasCorrection::None: {
       float M_total = 0.0f;
       for (int z = 0; z < count; ++z) M_total += inputs[z].M;
       return inputs[role].M / M_total;
     }
-    case DiBiasCorrection::Basic:
+    case BiasCorrection::Basic:
       return basic_weight(view, inputs, targets, count, source, role, y, p_hat_here, params.mis_visibility, rays);
-    case DiBiasCorrection::Pairwise:
+    case BiasCorrection::Pairwise:
       return pairwise_weight(view, inputs, targets, count, source, role, y, p_hat_here, params.mis_visibility, rays);
   }
   return 0.0f;
 }
 
 // Input k's sample as placed for the combining pixel (input 0), into `here`, aged by the input's age_step: re-placed
-// only where input 0's frame's lights do not place it alike (di_placed_alike: moving lights, temporal reuse). (Written
+// only where input 0's frame's lights do not place it alike (placed_alike: moving lights, temporal reuse). (Written
 // in place: returned by value, the copy stalled on store forwarding in the profile.)
-void place_for_combiner(const SceneView& view, const DiReuseInput& in, const LightList* here_lights, DiSample& here) {
-  const DiSample& own = in.reservoir->y;
-  if (di_placed_alike(in.domain->lights, *here_lights, own))
+void place_for_combiner(const SceneView& view, const ReuseInput& in, const LightList* here_lights, ReuseSample& here) {
+  const ReuseSample& own = in.reservoir->y;
+  if (placed_alike(in.domain->lights, *here_lights, own))
     here = own;
   else
     here = di_resolve(view.scene, *here_lights, own.light, own.uv);
-  here.age = di_aged(own.age, in.age_step);
+  here.age = aged_by(own.age, in.age_step);
 }
 
 // |J| of moving a surface-point sample's reconnection from `own` to `here` (Ouyang et al. 2021, eq. 11):
@@ -230,23 +231,23 @@ struct Resampled {
 // result's sample is placed in input 0's frame. The canonical input's target at its own sample is the one
 // its reservoir stored; `lanes` (or null) holds targets evaluated beforehand. `resampled` (or null) receives
 // the weights it streamed.
-DiReservoir combine(const SceneView& view, const DiReuseInput* inputs, int count, const DiReuseParams& params,
-                    const SlotTargets* lanes, Rng& rng, uint64_t& rays, Resampled* resampled = nullptr) {
-  DiReservoir out;
+ReuseReservoir combine(const SceneView& view, const ReuseInput* inputs, int count, const ReuseParams& params,
+                       const SlotTargets* lanes, Rng& rng, uint64_t& rays, Resampled* resampled = nullptr) {
+  ReuseReservoir out;
   if (resampled) std::fill(resampled->w, resampled->w + count, 0.0f);
   InputTargets targets(inputs, count, lanes);
   const LightList* here_lights = &inputs[0].domain->lights;
   const vec3& here_position = inputs[0].domain->surfaces[inputs[0].pixel].position;
   for (int k = 0; k < count; ++k) {
-    const DiReuseInput& in = inputs[k];
+    const ReuseInput& in = inputs[k];
     float u = rng.next_float();
     out.M += in.M;
     if (in.reservoir->W <= 0.0f) continue;
-    const DiSample& own = in.reservoir->y;
+    const ReuseSample& own = in.reservoir->y;
     if (k > 0 && own.light == kSurfacePointSample && params.max_jacobian > 0.0f &&
         reconnection_jacobian(own.point, here_position, in.domain->surfaces[in.pixel].position) > params.max_jacobian)
       continue;
-    DiSample here;
+    ReuseSample here;
     place_for_combiner(view, in, here_lights, here);
     const PlacedSample y{own, &in.domain->lights, here, here_lights};
     float p_hat_here = k == 0 ? in.reservoir->p_hat_y : targets.at(view, 0, k, y);
@@ -273,7 +274,7 @@ bool targets_known(const ReuseRow& row, int s, bool visibility) {
   const bool own_sampled = row.sampled[s] & 1u;
   if ((sampled & ~row.known_at[s]) || (own_sampled && (others & ~row.known_of[s]))) return false;
   for (int k = 1; visibility && k < row.count[s]; ++k) {
-    const DiReuseInput& in = row.inputs[k][s];
+    const ReuseInput& in = row.inputs[k][s];
     if ((sampled >> k & 1u) && in.M * row.own[k][s] > 0.0f && in.own_visible < 0) return false;
     if (own_sampled && in.M * row.of_combiner[k][s] > 0.0f && !(row.known_visible[s] >> k & 1u)) return false;
   }
@@ -308,10 +309,10 @@ int gather_combinations(const ReuseRow& row, int slots, bool visibility, const R
   return max_count;
 }
 
-// Further samples of a tile row's combinations (DiReuseParams::shaded_samples): (*out)[j][first + slot] receives
+// Further samples of a tile row's combinations (ReuseParams::shaded_samples): (*out)[j][first + slot] receives
 // slot's sample j + 2, drawn with the uniform v[slot].
 struct FurtherSamples {
-  std::vector<std::vector<DiReservoir>>* out;
+  std::vector<std::vector<ReuseReservoir>>* out;
   const float* v;
 };
 
@@ -322,9 +323,9 @@ struct FurtherSamples {
 // samples are stratified over the weights. Without picks (the slot kept no sample: nothing combined, or no weight) `r`
 // is copied into each.
 void write_further(const SceneView& view, const ReuseRow& row, int s, const int* picks, const float* p_hat,
-                   const DiReservoir& r, size_t i, const FurtherSamples& further) {
+                   const ReuseReservoir& r, size_t i, const FurtherSamples& further) {
   for (int j = 1; j <= int(further.out->size()); ++j) {
-    DiReservoir& out = (*further.out)[size_t(j - 1)][i];
+    ReuseReservoir& out = (*further.out)[size_t(j - 1)][i];
     if (!picks) {
       out = r;
       continue;
@@ -340,30 +341,30 @@ void write_further(const SceneView& view, const ReuseRow& row, int s, const int*
 // first where params.simd, and with pairwise MIS the combinations too (resample_lanes.h; slots whose targets
 // or visibilities are not all known combine one at a time); `streams` gives each slot's random numbers. A
 // slot without inputs keeps its reservoir of `in`. Returns the rays traced.
-uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slots, ReuseRow& row,
-                     const ReuseStreams& streams, size_t first, const std::vector<DiReservoir>& in,
-                     std::vector<DiReservoir>& out, const FurtherSamples* further = nullptr) {
-  const bool weights = params.bias != DiBiasCorrection::None;
+uint64_t combine_row(const SceneView& view, const ReuseParams& params, int slots, ReuseRow& row,
+                     const ReuseStreams& streams, size_t first, const std::vector<ReuseReservoir>& in,
+                     std::vector<ReuseReservoir>& out, const FurtherSamples* further = nullptr) {
+  const bool weights = params.bias != BiasCorrection::None;
   uint64_t traced =
       params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
   const int n = further ? int(further->out->size()) + 1 : 1;  // samples per slot
   CHECK(n <= kMaxShadedSamples);
   thread_local CombineLanes lanes;
   bool in_lanes[kLaneSlots] = {};
-  if (params.simd && params.bias == DiBiasCorrection::Pairwise && params.max_jacobian <= 0.0f) {
+  if (params.simd && params.bias == BiasCorrection::Pairwise && params.max_jacobian <= 0.0f) {
     if (const int max_count = gather_combinations(row, slots, params.mis_visibility, streams, in_lanes, lanes);
         max_count > 0) {
       combine_pairwise_lanes(lanes, slots, max_count, params.mis_visibility);
       if (n > 1) systematic_picks_lanes(lanes, further->v, n, slots, max_count);
     }
   }
-  DiReuseInput inputs[kMaxReuseInputs];  // a slot's inputs, for combining it one at a time
+  ReuseInput inputs[kMaxReuseInputs];  // a slot's inputs, for combining it one at a time
   Resampled resampled;
   int picks[kMaxShadedSamples];  // a slot's further samples' inputs (picks[0]: the kept one) and targets
   float p_hat[kMaxShadedSamples];
   for (int s = 0; s < slots; ++s) {
     const size_t i = first + size_t(s);
-    DiReservoir& r = out[i];
+    ReuseReservoir& r = out[i];
     bool picked = false;  // picks and p_hat hold the slot's further samples
     if (row.count[s] == 0) {
       r = in[i];
@@ -380,7 +381,7 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
       }
     } else {
       // The kept input's sample, placed for the combining pixel, with the lanes' sums.
-      static const DiSample kNone{};
+      static const ReuseSample kNone{};
       const int chosen = int(lanes.result.chosen[s]);
       if (chosen >= 0)
         place_for_combiner(view, row.inputs[chosen][s], &row.inputs[0][s].domain->lights, r.y);
@@ -398,9 +399,9 @@ uint64_t combine_row(const SceneView& view, const DiReuseParams& params, int slo
   return traced;
 }
 
-// Last frame's pixel under pixel (x, y) = i's surface point (di_find_history), or -1; whether its surface is similar
-// is tested apart.
-int64_t reprojected_pixel(const GBuffer& g, const DiDomain& current, const DiReuseParams& params, int frame, size_t i,
+// Last frame's pixel under pixel (x, y) = i's surface point (find_history_pixels), or -1; whether its surface is
+// similar is tested apart.
+int64_t reprojected_pixel(const GBuffer& g, const ReuseDomain& current, const ReuseParams& params, int frame, size_t i,
                           int x, int y) {
   if (!g.hit(i) || current.surfaces[i].roughness() < params.min_roughness) return -1;
   vec2 p = vec2(x, y) + g.jitter[i] + g.motion[i];
@@ -417,16 +418,16 @@ int64_t reprojected_pixel(const GBuffer& g, const DiDomain& current, const DiReu
 
 }  // namespace
 
-bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const DiReuseParams& p) {
+bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const ReuseParams& p) {
   if (!b.hit() || std::abs(a.depth - b.depth) > p.depth_tolerance * a.depth) return false;
   return glm::dot(a_n, b.shading_n()) >= p.normal_tolerance;
 }
 
-void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source,
-                    const DiReuseParams& params, float* weights) {
+void reuse_mis_weights(const SceneView& view, const ReuseInput* inputs, int count, int source,
+                       const ReuseParams& params, float* weights) {
   InputTargets targets(inputs, count, nullptr);
   const LightList* here_lights = &inputs[0].domain->lights;
-  DiSample here;
+  ReuseSample here;
   place_for_combiner(view, inputs[source], here_lights, here);
   const PlacedSample y{inputs[source].reservoir->y, &inputs[source].domain->lights, here, here_lights};
   const float p_hat_here = source == 0 ? inputs[0].reservoir->p_hat_y : targets.at(view, 0, source, y);
@@ -435,8 +436,8 @@ void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count
     weights[role] = mis_weight(view, inputs, targets, count, source, role, y, p_hat_here, params, rays);
 }
 
-void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& previous, const DiReuseParams& params,
-                     int frame, std::vector<int32_t>& history_pixel) {
+void find_history_pixels(const GBuffer& g, const ReuseDomain& current, const ReuseDomain& previous,
+                         const ReuseParams& params, int frame, std::vector<int32_t>& history_pixel) {
   if (previous.surfaces.size() != g.size()) {  // no surfaces last frame: nothing to reuse
     history_pixel.assign(g.size(), -1);
     return;
@@ -478,30 +479,30 @@ void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& 
   });
 }
 
-void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
-                       const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
-                       const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
-                       std::vector<int32_t>& history_pixel, RayCounter& rays) {
+void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& current, const ReuseDomain& previous,
+                    const std::vector<ReuseReservoir>& reservoirs, const std::vector<ReuseReservoir>& history,
+                    const ReuseParams& params, int frame, std::vector<ReuseReservoir>& out,
+                    std::vector<int32_t>& history_pixel, RayCounter& rays) {
   if (history.size() != g.size() || previous.surfaces.size() != g.size()) {
     history_pixel.assign(g.size(), -1);
     out = reservoirs;
     return;
   }
-  CHECK(history_pixel.size() == g.size());  // di_find_history's
+  CHECK(history_pixel.size() == g.size());  // find_history_pixels's
   out.resize(reservoirs.size());            // every pixel is written by its tile row below
   // With visibility in the pairwise weights, whether each history sample is visible from its own surface
   // (against this frame's geometry; the weight of a positive term reads it), into the input, traced 16 at
   // a time in slot order instead of one ray at a time inside the combinations. Returns the rays traced.
-  const bool own_visibility = params.mis_visibility && params.bias == DiBiasCorrection::Pairwise;
+  const bool own_visibility = params.mis_visibility && params.bias == BiasCorrection::Pairwise;
   auto trace_own_visibility = [&](int slots, ReuseRow& row) {
     auto answer = [&](int s, const RayPacket16& packet, int lane) {
       row.inputs[1][s].own_visible = Tracer::occluded_lane(packet, lane) ? 0 : 1;
     };
     auto queue = ray_queue16<int>(view.tracer, RayQuery::Occluded, answer);
     for (int s = 0; s < slots; ++s) {
-      const DiReuseInput& in = row.inputs[1][s];
+      const ReuseInput& in = row.inputs[1][s];
       if (row.count[s] < 2 || in.reservoir->W <= 0.0f || !(in.M * in.reservoir->p_hat_y > 0.0f)) continue;
-      queue.add(di_shadow_ray(view.tracer, previous.surfaces[in.pixel], previous.lights, in.reservoir->y), s);
+      queue.add(sample_shadow_ray(view.tracer, previous.surfaces[in.pixel], previous.lights, in.reservoir->y), s);
     }
     queue.finish();
     return queue.traced();
@@ -536,8 +537,8 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
         history_pixel[i] = -1;
         if (j < 0) continue;
         constexpr uint8_t kAgeStep = 1;  // last frame's sample is a frame older where this frame reuses it
-        const DiReservoir& old = history[size_t(j)];
-        if (params.max_sample_age > 0 && di_aged(old.y.age, kAgeStep) > params.max_sample_age) continue;
+        const ReuseReservoir& old = history[size_t(j)];
+        if (params.max_sample_age > 0 && aged_by(old.y.age, kAgeStep) > params.max_sample_age) continue;
         batch.row.inputs[0][s] = {&reservoirs[i], &current, i, reservoirs[i].M};
         batch.row.inputs[1][s] = {&old, &previous, size_t(j), std::min(old.M, params.history_cap * reservoirs[i].M)};
         batch.row.inputs[1][s].age_step = kAgeStep;
@@ -551,13 +552,14 @@ void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& 
   });
 }
 
-void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
-                      const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
-                      std::vector<DiReservoir>& out, RayCounter& rays, std::vector<std::vector<DiReservoir>>* further) {
+void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std::vector<ReuseReservoir>& in,
+                   const ReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
+                   std::vector<ReuseReservoir>& out, RayCounter& rays,
+                   std::vector<std::vector<ReuseReservoir>>* further) {
   const std::span<const PackedSurface> surfaces = current.surfaces;
   if (further && further->empty()) further = nullptr;
   if (further)
-    for (std::vector<DiReservoir>& samples : *further) samples.resize(in.size());
+    for (std::vector<ReuseReservoir>& samples : *further) samples.resize(in.size());
   const int width = current.width, height = current.height;
   out.resize(in.size());  // every pixel is written by its tile row below
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
@@ -565,7 +567,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   // here once per pixel (one shadow ray each, 16 at a time in pixel order) instead of once per pixel and
   // neighbour.
   std::vector<int8_t> own_visible;
-  if (params.mis_visibility && params.bias == DiBiasCorrection::Pairwise) {
+  if (params.mis_visibility && params.bias == BiasCorrection::Pairwise) {
     own_visible.assign(in.size(), -1);
     for_each_tile(width, height, [&](const Tile& tile) {
       auto answer = [&](size_t j, const RayPacket16& packet, int lane) {
@@ -576,7 +578,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
         for (int x = tile.x0; x < tile.x1; ++x) {
           const size_t j = size_t(y) * size_t(width) + size_t(x);
           if (!surfaces[j].hit() || in[j].W <= 0.0f || in[j].p_hat_y <= 0.0f) continue;
-          queue.add(di_shadow_ray(view.tracer, surfaces[j], current.lights, in[j].y), j);
+          queue.add(sample_shadow_ray(view.tracer, surfaces[j], current.lights, in[j].y), j);
         }
       queue.finish();
       rays.add(queue.traced());
@@ -701,7 +703,7 @@ void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std:
   });
 }
 
-void di_boiling_filter(const DiDomain& current, float threshold, std::vector<DiReservoir>& reservoirs) {
+void boiling_filter(const ReuseDomain& current, float threshold, std::vector<ReuseReservoir>& reservoirs) {
   constexpr int kBlock = 16;
   const int bw = (current.width + kBlock - 1) / kBlock, bh = (current.height + kBlock - 1) / kBlock;
   auto contribution = [&](size_t i) { return reservoirs[i].p_hat_y * reservoirs[i].W; };

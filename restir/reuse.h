@@ -1,23 +1,24 @@
 #pragma once
-// ReSTIR DI reuse (Bitterli et al. 2020, sections 4.2-4.3 and Alg. 4-6): a pixel's reservoir is combined
-// with the previous frame's reservoir of the same surface (temporal) and with those of nearby pixels
-// (spatial). Each input reservoir is one GRIS candidate (Lin et al. 2022) whose resampling MIS weight is
+// Reuse of reservoirs, ReSTIR DI's and ReSTIR GI's alike (Bitterli et al. 2020, sections 4.2-4.3 and Alg. 4-6;
+// Ouyang et al. 2021): a pixel's reservoir is combined with the previous frame's reservoir of the same
+// surface (temporal) and with those of nearby pixels (spatial). Each input reservoir is one GRIS candidate (Lin et al.
+// 2022) whose resampling MIS weight is
 //   none:  m_k = M_k / sum_z M_z                                (biased where the domains' targets differ)
 //   basic: m_k = M_k p_hat_k(y_k) / sum_z M_z p_hat_z(y_k)        (generalized balance heuristic, unbiased
 //          when candidates were not visibility-tested, or with mis_visibility; k^2 target evaluations)
-//   pairwise: the pixel's own reservoir paired with each neighbour (see di_reuse.cpp); unbiased under the
+//   pairwise: the pixel's own reservoir paired with each neighbour (see reuse.cpp); unbiased under the
 //          same condition, k target evaluations
 #include <vector>
 
-#include "restir/di.h"
+#include "restir/sample.h"
 
 namespace candela {
 
-enum class DiBiasCorrection : uint8_t { None, Basic, Pairwise };
+enum class BiasCorrection : uint8_t { None, Basic, Pairwise };
 
-inline constexpr int kMaxShadedSamples = 8;  // DiReuseParams::shaded_samples's bound
+inline constexpr int kMaxShadedSamples = 8;  // ReuseParams::shaded_samples's bound
 
-struct DiReuseParams {
+struct ReuseParams {
   bool temporal = true;
   float history_cap = 20.0f;          // the previous reservoir counts at most this many times the current M
   bool permutation_sampling = false;  // reproject onto a neighbour of the previous pixel (x ^ a, y ^ b, a and b
@@ -44,7 +45,7 @@ struct DiReuseParams {
                                  // and GI (docs/restir.md, "Shaded samples at equal time")
   float depth_tolerance = 0.1f;  // neighbours whose linear depth differs by more (relative) are rejected
   float normal_tolerance = 0.9f;  // ... or whose normals' cosine is below this
-  DiBiasCorrection bias = DiBiasCorrection::Pairwise;
+  BiasCorrection bias = BiasCorrection::Pairwise;
   bool mis_visibility = false;      // the MIS weights include visibility of the sample from the other inputs'
                                     // surfaces: needed to stay unbiased when every input's samples are visible
                                     // from it (candidate_visibility; ReSTIR GI's samples, always). Shadow rays per
@@ -52,8 +53,8 @@ struct DiReuseParams {
                                     // frame's geometry
   float boiling_threshold = 0.0f;   // > 0: after temporal reuse, drop reservoirs whose estimated contribution
                                     // exceeds this many times their 16x16 block's mean (biased: darkens; see
-                                    // di_boiling_filter)
-  int visibility_reuse_frames = 0;  // > 0: final visibility reuse for up to this many frames (see DiVisibilityReuse)
+                                    // boiling_filter)
+  int visibility_reuse_frames = 0;  // > 0: final visibility reuse for up to this many frames (see VisibilityReuse)
   bool drop_occluded = true;        // a reservoir whose sample the shading found occluded keeps its M but loses the
                                     // sample before it becomes history, so that reuse stops choosing it (see
                                     // Restir::reuse_and_shade; biased where visibility differs between frames or
@@ -72,9 +73,9 @@ struct DiReuseParams {
 };
 
 // One input of a combination: a reservoir and the domain/pixel whose target function produced it.
-struct DiReuseInput {
-  const DiReservoir* reservoir;
-  const DiDomain* domain;
+struct ReuseInput {
+  const ReuseReservoir* reservoir;
+  const ReuseDomain* domain;
   size_t pixel;
   float M;                  // confidence used for this input (capped for history)
   int8_t own_visible = -1;  // 1 or 0: whether the reservoir's sample is visible from its own surface, when
@@ -86,7 +87,7 @@ struct DiReuseInput {
 // all of a's neighbours): b has a surface within params.depth_tolerance of a's depth (relative) and a shading
 // normal whose cosine with a_n is at least params.normal_tolerance. The scalar reference of
 // similar_neighbour_lanes (neighbour_lanes.h), which the stages use with params.simd.
-bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const DiReuseParams& params);
+bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurface& b, const ReuseParams& params);
 
 // Stage "di_history", temporal reuse's first half: for every pixel, last frame's pixel under its surface point
 // (reprojected with the motion vectors; with params.permutation_sampling moved to a neighbour by the frame's
@@ -95,25 +96,25 @@ bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurfa
 // without last frame's surfaces), into `history_pixel`, sized here. It runs before the light candidates, which take
 // fewer where history is found (DiParams::history_light_candidates). Cost per pixel: a reprojection and one packed
 // surface of last frame read.
-void di_find_history(const GBuffer& g, const DiDomain& current, const DiDomain& previous, const DiReuseParams& params,
-                     int frame, std::vector<int32_t>& history_pixel);
+void find_history_pixels(const GBuffer& g, const ReuseDomain& current, const ReuseDomain& previous,
+                         const ReuseParams& params, int frame, std::vector<int32_t>& history_pixel);
 
 // The resampling MIS weights m_z(y), z = 0..count-1, that params.bias gives every input of a combination
 // for the sample y of input `source` (input 0: the pixel that combines, whose frame y is placed in), into
 // `weights`. The reuse stages compute the same function for z = source only; tests call this to check
-// that the weights of one sample sum to one over the inputs (tests/test_di_reuse.cpp, MisWeights).
-void di_mis_weights(const SceneView& view, const DiReuseInput* inputs, int count, int source,
-                    const DiReuseParams& params, float* weights);
+// that the weights of one sample sum to one over the inputs (tests/test_reuse.cpp, MisWeights).
+void reuse_mis_weights(const SceneView& view, const ReuseInput* inputs, int count, int source,
+                       const ReuseParams& params, float* weights);
 
 // Stage "di_temporal": reads this and the previous frame's surfaces and reservoirs and `history_pixel`
-// (di_find_history's), writes `out` (one combined reservoir per pixel) and turns `history_pixel` into the
+// (find_history_pixels's), writes `out` (one combined reservoir per pixel) and turns `history_pixel` into the
 // previous frame's pixel whose reservoir was merged, or -1 where the history was lost (also where its sample
 // grew older than params.max_sample_age). One tile row at a time: the rows' pairs of inputs, their targets in
 // lanes (with params.simd; reuse_targets.h), then the combinations. No rays, except with mis_visibility.
-void di_temporal_reuse(const SceneView& view, const GBuffer& g, const DiDomain& current, const DiDomain& previous,
-                       const std::vector<DiReservoir>& reservoirs, const std::vector<DiReservoir>& history,
-                       const DiReuseParams& params, int frame, std::vector<DiReservoir>& out,
-                       std::vector<int32_t>& history_pixel, RayCounter& rays);
+void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& current, const ReuseDomain& previous,
+                    const std::vector<ReuseReservoir>& reservoirs, const std::vector<ReuseReservoir>& history,
+                    const ReuseParams& params, int frame, std::vector<ReuseReservoir>& out,
+                    std::vector<int32_t>& history_pixel, RayCounter& rays);
 
 // The random streams of spatial pass `pass` (Rng::for_key's last key): the pixels' (kPixelStreams), the neighbour
 // blocks' starts (kBlockStarts) and the further samples' points (kFurtherPoints). Pass 0 keeps the names and each later
@@ -126,21 +127,21 @@ constexpr uint64_t spatial_stream(SpatialStream name, int pass) { return uint64_
 // similar neighbours within the radius, one tile row at a time as temporal reuse does (2 target
 // evaluations per neighbour, in lanes). No rays, except with mis_visibility. `pass` selects its own random
 // stream. With `history_pixel` (temporal reuse ran), the first pass gives pixels without history
-// disocclusion_neighbours instead. With `further` (DiReuseParams::shaded_samples), each of its n - 1 vectors
+// disocclusion_neighbours instead. With `further` (ReuseParams::shaded_samples), each of its n - 1 vectors
 // receives one more sample of every pixel's combination, and the n samples are stratified over the combination's
 // weights (systematic resampling; in lanes with params.simd: systematic_picks_lanes); each is the combination's
 // estimator. Cost: a pass over the pixel's inputs' weights per further sample.
-void di_spatial_reuse(const SceneView& view, const DiDomain& current, const std::vector<DiReservoir>& in,
-                      const DiReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
-                      std::vector<DiReservoir>& out, RayCounter& rays,
-                      std::vector<std::vector<DiReservoir>>* further = nullptr);
+void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std::vector<ReuseReservoir>& in,
+                   const ReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
+                   std::vector<ReuseReservoir>& out, RayCounter& rays,
+                   std::vector<std::vector<ReuseReservoir>>* further = nullptr);
 
-// Stage "di_boiling_filter": reads and rewrites the reservoirs. Temporal reuse can make a rare sample with
+// Stage "boiling_filter": reads and rewrites the reservoirs. Temporal reuse can make a rare sample with
 // a huge contribution weight spread to its neighbours frame after frame ("boiling"); this drops every
 // reservoir's sample whose estimated contribution p_hat(y) W exceeds `threshold` times the mean over its
 // 16x16 block (the idea of RTXDI's boiling filter; the statistic here is our own); the reservoir keeps its
 // M, as if none of its candidates had counted (dropping M too would overweight its neighbours' samples
 // wherever it is reused). Biased: it removes energy. Cost: two passes over the reservoirs.
-void di_boiling_filter(const DiDomain& current, float threshold, std::vector<DiReservoir>& reservoirs);
+void boiling_filter(const ReuseDomain& current, float threshold, std::vector<ReuseReservoir>& reservoirs);
 
 }  // namespace candela
