@@ -64,7 +64,7 @@ inline ReuseReceiver exact_receiver(const GBuffer& g, const vec3& eye, const Lig
 
 // Whether sample s, stored with the point the lights `own` (its frame's) gave it, has that point under the lights
 // `here` too: the same list, a light no frame moves or dims (LightList::fixed, to the bit), or a surface point (never
-// re-placed). Reuse places the others anew on `here` (di_resolve).
+// re-placed). Reuse places the others anew on `here` (di_resolve, restir/di.h).
 inline bool placed_alike(const LightList& own, const LightList& here, const ReuseSample& s) {
   return &own == &here || s.light == kSurfacePointSample || here.fixed(s.light);
 }
