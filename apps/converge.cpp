@@ -30,7 +30,7 @@ const std::vector<ConvergeMethod>& converge_methods() {
     }
     for (const char* bias : {"none", "basic", "pairwise"})
       m.push_back(
-          {std::string("restir-di-") + bias, Transport::Direct, [mode = di_bias_names().at(bias)](RenderSettings& s) {
+          {std::string("restir-di-") + bias, Transport::Direct, [mode = bias_names().at(bias)](RenderSettings& s) {
              s.method = Method::RestirDi;
              s.di_reuse.temporal = s.di_reuse.spatial = true;
              s.di_reuse.bias = mode;

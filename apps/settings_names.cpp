@@ -32,13 +32,13 @@ const std::map<std::string, DenoiserKind>& denoiser_names() {
   return names;
 }
 
-const std::map<std::string, BiasCorrection>& di_bias_names() {
+const std::map<std::string, BiasCorrection>& bias_names() {
   static const std::map<std::string, BiasCorrection> names = {
       {"none", BiasCorrection::None}, {"basic", BiasCorrection::Basic}, {"pairwise", BiasCorrection::Pairwise}};
   return names;
 }
 
-const std::vector<std::string>& di_reuse_names() {
+const std::vector<std::string>& reuse_names() {
   static const std::vector<std::string> names = {"none", "temporal", "spatial", "both"};
   return names;
 }

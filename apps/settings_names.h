@@ -13,10 +13,10 @@ const std::map<std::string, Method>& method_names();
 const std::map<std::string, LightSamplerKind>& light_sampler_names();
 const std::map<std::string, SampleSequence>& sampler_names();
 const std::map<std::string, DenoiserKind>& denoiser_names();
-const std::map<std::string, BiasCorrection>& di_bias_names();
+const std::map<std::string, BiasCorrection>& bias_names();
 // "none", "temporal", "spatial", "both" (index: temporal + 2 spatial): which reuse stages of a reservoir chain
 // (ReSTIR DI's or GI's) run.
-const std::vector<std::string>& di_reuse_names();
+const std::vector<std::string>& reuse_names();
 // The name `value` has in `names` (the inverse lookup, for messages and CSV columns).
 template <class T>
 std::string name_of(const std::map<std::string, T>& names, T value) {

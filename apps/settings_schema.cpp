@@ -78,7 +78,7 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
   reuse.doc = "Reuse stages: none, temporal, spatial or both";
   reuse.methods = methods;
   reuse.scope = kEverywhere & ~kConverge;
-  reuse.names = di_reuse_names();  // index = temporal + 2 spatial
+  reuse.names = reuse_names();  // index = temporal + 2 spatial
   reuse.get = [params](const RenderSettings& s) {
     return double(int(params(s).temporal) + 2 * int(params(s).spatial));
   };
@@ -87,7 +87,7 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
     params(s).spatial = (int(v) & 2) != 0;
   };
   rows.push_back(reuse);
-  rows.push_back(choice_row(key("bias"), group, di_bias_names(), field(&ReuseParams::bias),
+  rows.push_back(choice_row(key("bias"), group, bias_names(), field(&ReuseParams::bias),
                             "Bias correction of reuse: none (1/M), basic (generalized balance heuristic, k^2 target "
                             "evaluations) or pairwise (pairwise MIS, k evaluations)",
                             methods));
