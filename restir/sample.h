@@ -5,7 +5,6 @@
 // and the shading (restir/shade.h) read samples through these, whichever estimator drew them.
 #include <algorithm>
 #include <span>
-#include <vector>
 
 #include "engine/gbuffer.h"
 #include "engine/packed_surface.h"
