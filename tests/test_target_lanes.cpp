@@ -232,9 +232,11 @@ TEST(TargetLanes, ReceiversSkipTheVectorsNobodyWants) {
     build_receiver_lanes(*packed, eye, kLaneSlots, *some, wanted);
     EXPECT_TRUE(same_bits(some->px[37], full->px[37]) && same_bits(some->target.cos_o[37], full->target.cos_o[37]))
         << target;
-    for (int s = 0; s < kLaneSlots; ++s)
-      if (s < 32 || s >= 48)
+    for (int s = 0; s < kLaneSlots; ++s) {
+      if (s < 32 || s >= 48) {
         EXPECT_TRUE(some->px[s] == kUntouched && some->target.cos_o[s] == kUntouched) << target << " slot " << s;
+      }
+    }
   });
 }
 
