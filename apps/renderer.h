@@ -55,6 +55,9 @@ struct RenderTestSwitches {
   bool stale_light_history = false;  // temporal reuse judges last frame's samples with this frame's light
                                      // placement instead of last frame's (biased where lights move;
                                      // Unbiased.MovingLights must reject it)
+  // Temporal reuse traces every history sample's visibility again instead of taking last frame's shading verdict
+  // (RestirDiReuse.HistoryVerdictsReplaceTemporalRays compares the two).
+  bool retrace_history_visibility = false;
 };
 
 struct RenderSettings {
@@ -129,7 +132,7 @@ class Renderer {
   std::unique_ptr<Tracer> tracer_;
   LightList lights_;
   LightList prev_lights_;      // last frame's light placement (scenes with motion only)
-  bool lights_moved_ = false;  // lights_ differs from last frame's placement
+  bool lights_moved_ = false;  // animated instances moved since last frame (and with them lights_, if they emit)
   AnyLightSampler sampler_;
   Camera camera_, prev_camera_;
   CameraDesc camera_desc_;

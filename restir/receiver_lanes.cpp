@@ -122,6 +122,17 @@ void BuildReceiverLanes(const SurfaceLanes& surfaces, const vec3& eye, int slots
     if (!wanted || !hn::AllFalse(d, hn::Gt(hn::Load(d, wanted + s), hn::Zero(d)))) build(d, surfaces, eye, s, out);
 }
 
+// reuse_receiver's position and geometric normal alone.
+void PackedPointsLanes(const SurfaceLanes& surfaces, int slots, ReceiverLanes& out) {
+  const D d;
+  const DU du;
+  const int lanes = int(hn::Lanes(d));
+  for (int s = 0; s < slots; s += lanes) {
+    store3(d, load3(d, surfaces.px, surfaces.py, surfaces.pz, s), out.px, out.py, out.pz, s);
+    store3(d, oct_decode(d, hn::Load(du, surfaces.geometric_normal + s)), out.gx, out.gy, out.gz, s);
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace candela
 HWY_AFTER_NAMESPACE();
@@ -132,6 +143,11 @@ namespace candela {
 HWY_EXPORT(BuildReceiverLanes);
 HWY_EXPORT(BuildExactReceiverLanes);
 HWY_EXPORT(BuildExactReceivers);
+HWY_EXPORT(PackedPointsLanes);
+
+void packed_points_lanes(const SurfaceLanes& surfaces, int slots, ReceiverLanes& out) {
+  HWY_DYNAMIC_DISPATCH(PackedPointsLanes)(surfaces, slots, out);
+}
 
 void build_exact_receiver_lanes(const ExactSurfaceLanes& surfaces, const vec3& eye, int slots, BsdfLanes& exact) {
   HWY_DYNAMIC_DISPATCH(BuildExactReceiverLanes)(surfaces, eye, slots, exact);

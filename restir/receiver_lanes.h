@@ -37,6 +37,11 @@ struct SurfaceLanes {
 void build_receiver_lanes(const SurfaceLanes& surfaces, const vec3& eye, int slots, ReceiverLanes& out,
                           const float* wanted = nullptr);
 
+// Slots [0, slots) of `out`: the positions and geometric normals of `surfaces` as build_receiver_lanes gives them
+// (reuse_receiver's), nothing else: where the shading's shadow rays start (shadow_ray_lanes reads no more), so that
+// they are reuse's rays. Cost per slot: an octahedral decode, in lanes.
+void packed_points_lanes(const SurfaceLanes& surfaces, int slots, ReceiverLanes& out);
+
 // Exact G-buffer surfaces gathered into one plane per field (slot s: one pixel; set_row() transposes).
 struct ExactSurfaceLanes {
   alignas(64) float px[kLaneSlots], py[kLaneSlots], pz[kLaneSlots];

@@ -35,6 +35,12 @@ static void drop_occluded_samples(const std::vector<SampleVisibility>& visibilit
   });
 }
 
+// Whether temporal reuse reads last frame's verdicts on its history's samples (temporal_reuse's history_verdicts):
+// where the MIS weights include visibility, whose rays from the history's surfaces the shading's rays then repeat.
+static bool history_verdicts_read(const ReuseParams& reuse) {
+  return reuse.temporal && reuse.mis_visibility && reuse.bias == BiasCorrection::Pairwise;
+}
+
 bool Restir::find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
                           const ReuseParams& reuse, int key, int pass, ReservoirChain& chain, FrameStats& stats) const {
   if (!reuse.temporal || pass != 0 || chain.history.size() != g.size()) return false;
@@ -56,8 +62,11 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
   std::vector<ReuseReservoir>* result = &chain.initial;
   if (temporal) {
     StageTimer timer(stats, prefix + "_temporal");
+    // Last pass's verdicts (swapped out at this pass's shading) judge the history's samples where they still hold.
+    const bool verdicts =
+        frame.same_geometry && history_verdicts_read(reuse) && chain.visibility.size() == chain.history.size();
     temporal_reuse(view, g, current, previous, *result, chain.history, reuse, key, chain.temporal, chain.history_pixel,
-                   timer.rays());
+                   timer.rays(), verdicts ? &chain.visibility : nullptr);
     result = &chain.temporal;
   }
   if (temporal && reuse.boiling_threshold > 0.0f) {
@@ -80,7 +89,7 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
     StageTimer timer(stats, prefix + "_shade");
     std::swap(chain.visibility, chain.prev_visibility);
     VisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr,
-                               &chain.prev_visibility};
+                               &chain.prev_visibility, history_verdicts_read(reuse)};
     shade_reservoirs(view, g, *result, chain.further, unsampled, visibility, reuse.simd, chain.visibility, sum,
                      timer.rays(), timer.non_finite());
     if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);

@@ -42,11 +42,14 @@ struct RestirSettings {
 // What a pass reads besides the G-buffer (whose packed surfaces, GBufferParams::packed, its targets read):
 // this frame's light placement and eye, and last frame's, as the renderer decided them (last frame's
 // placement is this frame's where no light moved), and last frame's packed surfaces (empty: none).
+// same_geometry: no instance moved since last frame, so a shadow ray last frame traced sees what it would see now,
+// and temporal reuse takes last frame's shading verdicts instead of tracing their rays again (temporal_reuse).
 struct RestirFrame {
   const LightList& lights;
   const LightList& prev_lights;
   vec3 eye, prev_eye;
   std::span<const PackedSurface> prev_surfaces;
+  bool same_geometry = false;
 };
 
 class Restir {

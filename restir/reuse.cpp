@@ -482,7 +482,8 @@ void find_history_pixels(const GBuffer& g, const ReuseDomain& current, const Reu
 void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& current, const ReuseDomain& previous,
                     const std::vector<ReuseReservoir>& reservoirs, const std::vector<ReuseReservoir>& history,
                     const ReuseParams& params, int frame, std::vector<ReuseReservoir>& out,
-                    std::vector<int32_t>& history_pixel, RayCounter& rays) {
+                    std::vector<int32_t>& history_pixel, RayCounter& rays,
+                    const std::vector<SampleVisibility>* history_verdicts) {
   if (history.size() != g.size() || previous.surfaces.size() != g.size()) {
     history_pixel.assign(g.size(), -1);
     out = reservoirs;
@@ -491,17 +492,29 @@ void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& 
   CHECK(history_pixel.size() == g.size());  // find_history_pixels's
   out.resize(reservoirs.size());            // every pixel is written by its tile row below
   // With visibility in the pairwise weights, whether each history sample is visible from its own surface
-  // (against this frame's geometry; the weight of a positive term reads it), into the input, traced 16 at
-  // a time in slot order instead of one ray at a time inside the combinations. Returns the rays traced.
+  // (against this frame's geometry; the weight of a positive term reads it), into the input: last frame's verdict
+  // where its shading traced this very ray (history_verdicts: a verdict of its own, not one reused from an earlier
+  // frame, on the same sample), else traced, 16 at a time in slot order instead of one ray at a time inside the
+  // combinations. Returns the rays traced.
   const bool own_visibility = params.mis_visibility && params.bias == BiasCorrection::Pairwise;
+  auto verdict_on = [&](const ReuseInput& in) {
+    if (!history_verdicts) return -1;
+    const SampleVisibility& v = (*history_verdicts)[in.pixel];
+    const ReuseSample& y = in.reservoir->y;
+    return v.valid && v.age == 0 && v.light == y.light && v.uv == y.uv ? int(v.visible) : -1;
+  };
   auto trace_own_visibility = [&](int slots, ReuseRow& row) {
     auto answer = [&](int s, const RayPacket16& packet, int lane) {
       row.inputs[1][s].own_visible = Tracer::occluded_lane(packet, lane) ? 0 : 1;
     };
     auto queue = ray_queue16<int>(view.tracer, RayQuery::Occluded, answer);
     for (int s = 0; s < slots; ++s) {
-      const ReuseInput& in = row.inputs[1][s];
+      ReuseInput& in = row.inputs[1][s];
       if (row.count[s] < 2 || in.reservoir->W <= 0.0f || !(in.M * in.reservoir->p_hat_y > 0.0f)) continue;
+      if (const int verdict = verdict_on(in); verdict >= 0) {
+        in.own_visible = int8_t(verdict);
+        continue;
+      }
       queue.add(sample_shadow_ray(view.tracer, previous.surfaces[in.pixel], previous.lights, in.reservoir->y), s);
     }
     queue.finish();

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "restir/sample.h"
+#include "restir/shade.h"
 
 namespace candela {
 
@@ -110,11 +111,17 @@ void reuse_mis_weights(const SceneView& view, const ReuseInput* inputs, int coun
 // (find_history_pixels's), writes `out` (one combined reservoir per pixel) and turns `history_pixel` into the
 // previous frame's pixel whose reservoir was merged, or -1 where the history was lost (also where its sample
 // grew older than params.max_sample_age). One tile row at a time: the rows' pairs of inputs, their targets in
-// lanes (with params.simd; reuse_targets.h), then the combinations. No rays, except with mis_visibility.
+// lanes (with params.simd; reuse_targets.h), then the combinations. No rays, except with mis_visibility: then two per
+// pixel with history, from the history's surface to the history's sample and to the pixel's own sample.
+// `history_verdicts` (or null): last frame's shading verdicts on the history's samples (shade_reservoirs), given
+// where no geometry moved since. A verdict traced for the same sample from the same pixel answers the first of
+// those rays: the shading's shadow ray starts from the packed surface as reuse's rays do, so it is the same ray
+// against the same geometry, and the image stays the same bits (RestirDiReuse.HistoryVerdictsReplaceTemporalRays).
 void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& current, const ReuseDomain& previous,
                     const std::vector<ReuseReservoir>& reservoirs, const std::vector<ReuseReservoir>& history,
                     const ReuseParams& params, int frame, std::vector<ReuseReservoir>& out,
-                    std::vector<int32_t>& history_pixel, RayCounter& rays);
+                    std::vector<int32_t>& history_pixel, RayCounter& rays,
+                    const std::vector<SampleVisibility>* history_verdicts = nullptr);
 
 // The random streams of spatial pass `pass` (Rng::for_key's last key): the pixels' (kPixelStreams), the neighbour
 // blocks' starts (kBlockStarts) and the further samples' points (kFurtherPoints). Pass 0 keeps the names and each later

@@ -22,6 +22,7 @@ void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector
                        reuse.history_pixel->size() == g.size() && reuse.previous->size() == g.size();
   const int samples = 1 + int(further.size());
   CHECK(samples <= kMaxShadedSamples);
+  CHECK(!reuse.from_packed || g.packed.size() == g.size());
   const float weight = 1.0f / float(samples);  // each sample's share of the pixel's estimate
   auto sampled = [&](int k) -> const std::vector<ReuseReservoir>& {
     return k == 0 ? reservoirs : further[size_t(k - 1)];
@@ -39,6 +40,11 @@ void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector
         if (alike[size_t(j) * stride] > 0 && shade_alike(sampled(j)[i], r)) ++alike[size_t(j) * stride], here = 0;
     }
   };
+  // Pixel i's shadow ray to sample y built one pixel at a time, from the surface the lanes' rays start from.
+  auto scalar_shadow_ray = [&](size_t i, const ReuseSample& y) {
+    return reuse.from_packed ? sample_shadow_ray(view.tracer, g.packed[i], view.lights, y)
+                             : sample_shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], view.lights, y);
+  };
   visibility.resize(
       g.size());  // every pixel's verdict is written below (in parallel, where a fill here ran on one thread)
   auto finish = [&](size_t i, const vec3& L) {
@@ -51,14 +57,17 @@ void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector
   // and shadow ray, in lanes where the sample stores its point (with simd; else, and for punctual lights,
   // sample_contribution and sample_shadow_ray one pixel at a time), and each pixel's estimate. The shadow rays go out
   // 16 at a time in pixel order (rtcOccluded16), the row's first samples' before its further samples': neighbouring
-  // pixels' rays towards nearby lights share much of their traversal.
+  // pixels' rays towards nearby lights share much of their traversal. With reuse.from_packed they start from the
+  // packed surfaces (the octahedral geometric normal offsets the origin; 32 more bytes per pixel read).
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     struct Lanes {
       ExactSurfaceLanes surfaces;
       ReceiverLanes receivers;
+      SurfaceLanes packed;    // reuse.from_packed: the row's packed surfaces
+      ReceiverLanes origins;  // and their points and geometric normals (the rest unused)
       CandidateLanes samples;
       ContributionLanes contributions;
-      RayLanes rays;  // to the stored points, from the exact receivers (sample_shadow_ray's)
+      RayLanes rays;  // to the stored points (sample_shadow_ray's)
     };
     thread_local Lanes lanes;
     struct Pending {
@@ -78,6 +87,10 @@ void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector
       if (simd) {
         lanes.surfaces.set_row(g, first, slots);
         build_exact_receivers(lanes.surfaces, view.camera.position(), slots, lanes.receivers);
+        if (reuse.from_packed) {
+          lanes.packed.set_row(g.packed.data() + first, slots);
+          packed_points_lanes(lanes.packed, slots, lanes.origins);
+        }
       }
       int alike_row[kMaxShadedSamples][kTileWidth];  // count_alike's, per sample and slot
       for (int s = 0; s < slots; ++s) {
@@ -98,7 +111,8 @@ void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector
               lanes.samples.clear(s);
           }
           evaluate_exact_contribution_lanes(lanes.receivers, lanes.samples, slots, lanes.contributions);
-          shadow_ray_lanes(lanes.receivers, lanes.samples, view.tracer.offset_epsilon(), slots, lanes.rays);
+          shadow_ray_lanes(reuse.from_packed ? lanes.origins : lanes.receivers, lanes.samples,
+                           view.tracer.offset_epsilon(), slots, lanes.rays);
         }
         for (int s = 0; s < slots; ++s) {
           const size_t i = first + size_t(s);
@@ -127,9 +141,7 @@ void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector
                   old = nullptr;
               }
               if (!old) {
-                queue.add(in_lanes
-                              ? lanes.rays.ray(s)
-                              : sample_shadow_ray(view.tracer, g.position[i], g.geometric_normal[i], view.lights, r.y),
+                queue.add(in_lanes ? lanes.rays.ray(s) : scalar_shadow_ray(i, r.y),
                           {i, L, value * (r.W * share), k == 0});
                 continue;
               }

@@ -25,6 +25,10 @@ struct VisibilityReuse {
   int max_age = 0;                                          // 0: trace every pixel every frame
   const std::vector<int32_t>* history_pixel = nullptr;      // from temporal reuse (null: no history)
   const std::vector<SampleVisibility>* previous = nullptr;  // last frame's verdicts
+  // The shadow rays start from the packed surfaces (GBuffer::packed), as reuse's visibility rays do, instead of the
+  // exact ones, so that next frame's temporal reuse can take the first sample's verdict for its own ray to that sample
+  // (temporal_reuse's history_verdicts; where the MIS weights include visibility).
+  bool from_packed = false;
 };
 
 // Stages "di_shade" and "gi_shade": reads the G-buffer, reservoirs and, for ReSTIR DI, the unsampled light of its
@@ -35,7 +39,8 @@ struct VisibilityReuse {
 // in `non_finite`. With `further` samples (ReuseParams::shaded_samples) each of the n samples' terms counts 1/n,
 // and the further ones' verdicts are not kept; samples of a pixel that shade alike (same sample and W: the copies of
 // a pixel without reuse, or picks of one input) are shaded once with their shares summed. One shadow ray per pixel and
-// distinct sample (in packets of 16), except where the first sample's verdict is reused. With `simd`, the exact
+// distinct sample (in packets of 16), except where the first sample's verdict is reused; from the packed surface with
+// reuse.from_packed, else from the exact one. With `simd`, the exact
 // receivers (built once per pixel for all its samples) and contributions are evaluated in lanes (target_lanes.h; the
 // scalar path, the reference, gives the same bits).
 void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector<ReuseReservoir>& reservoirs,

@@ -12,6 +12,7 @@
 
 #include <cstdio>
 #include <set>
+#include <vector>
 
 #include "apps/renderer.h"
 #include "engine/builtin_scenes.h"
@@ -353,6 +354,41 @@ TEST(RestirDiReuse, SamplesThatShadeAlikeAreShadedOnce) {
     size_t differing = 0;
     for (size_t i = 0; i < one.pixels.size(); ++i) differing += image.pixels[i] != one.pixels[i];
     EXPECT_EQ(differing, 0u) << samples << " samples";
+  }
+}
+
+// Still scene and camera: ReSTIR GI's temporal reuse takes last frame's shading verdicts on its history's samples
+// (RestirFrame::same_geometry) instead of tracing those rays again. A verdict answers the very ray it replaces (the
+// same origin on the packed surface, the same sample, the same geometry), so the images must be the same bits as
+// with every ray traced (the test switch retrace_history_visibility), frame after frame, with fewer temporal rays:
+// a verdict of another pixel, another sample, or one the shading itself reused would change the pairwise weights.
+TEST(RestirDiReuse, HistoryVerdictsReplaceTemporalRays) {
+  const Scene scene = make_manylights_scene(256, 7);
+  auto run = [&](bool retrace, uint64_t& temporal_rays) {
+    RenderSettings s = testing::settings(
+        {{"width", 96}, {"height", 54}, {"method", "restir"}, {"max_depth", 3}, {"accumulate", false}, {"seed", 5}});
+    s.test.retrace_history_visibility = retrace;
+    Renderer renderer(scene, s);
+    temporal_rays = 0;
+    std::vector<Image> frames;
+    for (int frame = 0; frame < 6; ++frame) {
+      FrameStats stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
+      for (const StageStats& st : stats.stages)
+        if (st.name == "gi_temporal") temporal_rays += st.rays;
+      frames.push_back(renderer.image());
+    }
+    return frames;
+  };
+  uint64_t traced = 0, reused = 0;
+  const std::vector<Image> all = run(true, traced), some = run(false, reused);
+  std::printf("gi_temporal rays over 6 frames: %llu all traced, %llu with last frame's verdicts (%.2fx)\n",
+              (unsigned long long)traced, (unsigned long long)reused, double(reused) / double(traced));
+  ASSERT_GT(traced, 10000u);
+  EXPECT_LT(double(reused), 0.75 * double(traced));
+  for (size_t f = 0; f < all.size(); ++f) {
+    size_t differing = 0;
+    for (size_t i = 0; i < all[f].pixels.size(); ++i) differing += some[f].pixels[i] != all[f].pixels[i];
+    EXPECT_EQ(differing, 0u) << "frame " << f;
   }
 }
 

@@ -148,7 +148,8 @@ TEST(TargetLanes, KernelGivesTheScalarBitsOnRandomInputs) {
 
 // Receivers built in lanes from random packed surfaces (normals all over the octahedron, every material
 // byte including the extremes, the eye on either side) against reuse_receiver and Bsdf::wo_terms: every plane
-// the target evaluation reads holds the scalar bits (bound: 0 ulp).
+// the target evaluation reads holds the scalar bits (bound: 0 ulp), and so do packed_points_lanes's points and
+// normals (the shading's shadow rays start there).
 TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
   const Scene scene = make_cornell_scene();
   const LightList lights(scene);
@@ -159,6 +160,7 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
   };
   std::vector<PackedSurface> surfaces(kLaneSlots);
   auto lanes = std::make_unique<ReceiverLanes>(), scalar = std::make_unique<ReceiverLanes>();
+  auto points = std::make_unique<ReceiverLanes>();  // packed_points_lanes's
   auto packed = std::make_unique<SurfaceLanes>();
   int compared = 0, lit = 0;
   std::string targets;
@@ -186,13 +188,17 @@ TEST(TargetLanes, ReceiversGiveTheScalarBitsOnRandomSurfaces) {
     for_each_simd_target([&](const char* target) {
       if (batch == 0) targets += std::string(targets.empty() ? "" : ", ") + target;
       build_receiver_lanes(*packed, eye, kLaneSlots, *lanes);
+      packed_points_lanes(*packed, kLaneSlots, *points);
       for (int s = 0; s < kLaneSlots; ++s) {
         const BsdfLanes &a = lanes->target, &b = scalar->target;
-        Terms terms = {{"px", {lanes->px[s], scalar->px[s]}},    {"py", {lanes->py[s], scalar->py[s]}},
-                       {"pz", {lanes->pz[s], scalar->pz[s]}},    {"gx", {lanes->gx[s], scalar->gx[s]}},
-                       {"gy", {lanes->gy[s], scalar->gy[s]}},    {"gz", {lanes->gz[s], scalar->gz[s]}},
-                       {"wox", {lanes->wox[s], scalar->wox[s]}}, {"woy", {lanes->woy[s], scalar->woy[s]}},
-                       {"woz", {lanes->woz[s], scalar->woz[s]}}};
+        Terms terms = {{"px", {lanes->px[s], scalar->px[s]}},         {"py", {lanes->py[s], scalar->py[s]}},
+                       {"pz", {lanes->pz[s], scalar->pz[s]}},         {"gx", {lanes->gx[s], scalar->gx[s]}},
+                       {"gy", {lanes->gy[s], scalar->gy[s]}},         {"gz", {lanes->gz[s], scalar->gz[s]}},
+                       {"wox", {lanes->wox[s], scalar->wox[s]}},      {"woy", {lanes->woy[s], scalar->woy[s]}},
+                       {"woz", {lanes->woz[s], scalar->woz[s]}},      {"points px", {points->px[s], scalar->px[s]}},
+                       {"points py", {points->py[s], scalar->py[s]}}, {"points pz", {points->pz[s], scalar->pz[s]}},
+                       {"points gx", {points->gx[s], scalar->gx[s]}}, {"points gy", {points->gy[s], scalar->gy[s]}},
+                       {"points gz", {points->gz[s], scalar->gz[s]}}};
         for (auto& term : bsdf_terms(a, b, s, false)) terms.push_back(term);
         compared += expect_same_bits(terms, a.albedo_row[s], b.albedo_row[s], target, batch, s);
       }
