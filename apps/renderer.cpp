@@ -181,13 +181,14 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int done,
 
 RestirFrame Renderer::restir_frame() const {
   const bool moved = lights_moved_ && !settings_.test.stale_light_history;
-  const bool same_geometry = !lights_moved_ && !settings_.test.retrace_history_visibility;
+  const bool same_geometry = !lights_moved_ && !settings_.test.retrace_known_visibility;
   return {.lights = lights_,
           .prev_lights = moved ? prev_lights_ : lights_,
           .eye = camera_.position(),
           .prev_eye = prev_camera_.position(),
           .prev_surfaces = prev_gbuffer_.packed,
-          .same_geometry = same_geometry};
+          .same_geometry = same_geometry,
+          .known_visibility = !settings_.test.retrace_known_visibility};
 }
 
 ReuseDomain Renderer::current_domain() const { return restir_.current_domain(restir_frame(), gbuffer_); }

@@ -55,9 +55,10 @@ struct RenderTestSwitches {
   bool stale_light_history = false;  // temporal reuse judges last frame's samples with this frame's light
                                      // placement instead of last frame's (biased where lights move;
                                      // Unbiased.MovingLights must reject it)
-  // Temporal reuse traces every history sample's visibility again instead of taking last frame's shading verdict
-  // (RestirDiReuse.HistoryVerdictsReplaceTemporalRays compares the two).
-  bool retrace_history_visibility = false;
+  // Every ray whose verdict another stage traced is traced again: temporal reuse's to its history's samples (last
+  // frame's shading traced them), the shading's to samples spatial reuse kept (it traced them); the images must stay
+  // the same bits (RestirDiReuse.KnownVerdictsReplaceRays).
+  bool retrace_known_visibility = false;
 };
 
 struct RenderSettings {

@@ -35,10 +35,11 @@ static void drop_occluded_samples(const std::vector<SampleVisibility>& visibilit
   });
 }
 
-// Whether temporal reuse reads last frame's verdicts on its history's samples (temporal_reuse's history_verdicts):
-// where the MIS weights include visibility, whose rays from the history's surfaces the shading's rays then repeat.
-static bool history_verdicts_read(const ReuseParams& reuse) {
-  return reuse.temporal && reuse.mis_visibility && reuse.bias == BiasCorrection::Pairwise;
+// Whether reuse traces the visibility of inputs' own samples from their surfaces (pairwise MIS with visibility): then
+// the shading's rays start where reuse's do, and each stage takes the verdicts the other traced for the same ray
+// (temporal_reuse's history_verdicts, spatial_reuse's kept_visible).
+static bool reuse_traces_visibility(const ReuseParams& reuse) {
+  return reuse.mis_visibility && reuse.bias == BiasCorrection::Pairwise;
 }
 
 bool Restir::find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
@@ -64,7 +65,7 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
     StageTimer timer(stats, prefix + "_temporal");
     // Last pass's verdicts (swapped out at this pass's shading) judge the history's samples where they still hold.
     const bool verdicts =
-        frame.same_geometry && history_verdicts_read(reuse) && chain.visibility.size() == chain.history.size();
+        frame.same_geometry && reuse_traces_visibility(reuse) && chain.visibility.size() == chain.history.size();
     temporal_reuse(view, g, current, previous, *result, chain.history, reuse, key, chain.temporal, chain.history_pixel,
                    timer.rays(), verdicts ? &chain.visibility : nullptr);
     result = &chain.temporal;
@@ -79,17 +80,22 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
   const int samples =
       reuse.spatial && reuse.spatial_passes > 0 ? std::clamp(reuse.shaded_samples, 1, kMaxShadedSamples) : 1;
   chain.further.resize(size_t(samples - 1));
+  const bool known =
+      reuse.spatial && reuse.spatial_passes > 0 && reuse_traces_visibility(reuse) && frame.known_visibility;
   for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
     StageTimer timer(stats, prefix + "_spatial");
+    const bool last = k == reuse.spatial_passes - 1;
     spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr,
-                  chain.spatial[k % 2], timer.rays(), k == reuse.spatial_passes - 1 ? &chain.further : nullptr);
+                  chain.spatial[k % 2], timer.rays(), last ? &chain.further : nullptr,
+                  last && known ? &chain.kept_visible : nullptr);
     result = &chain.spatial[k % 2];
   }
   {
     StageTimer timer(stats, prefix + "_shade");
     std::swap(chain.visibility, chain.prev_visibility);
     VisibilityReuse visibility{reuse.visibility_reuse_frames, temporal ? &chain.history_pixel : nullptr,
-                               &chain.prev_visibility, history_verdicts_read(reuse)};
+                               &chain.prev_visibility, reuse_traces_visibility(reuse),
+                               known ? &chain.kept_visible : nullptr};
     shade_reservoirs(view, g, *result, chain.further, unsampled, visibility, reuse.simd, chain.visibility, sum,
                      timer.rays(), timer.non_finite());
     if (reuse.drop_occluded) drop_occluded_samples(chain.visibility, *result);

@@ -25,6 +25,7 @@ struct ReservoirChain {
   std::vector<ReuseReservoir> initial, temporal, spatial[2], history;
   std::vector<int32_t> history_pixel;
   std::vector<SampleVisibility> visibility, prev_visibility;
+  std::vector<int8_t> kept_visible;  // the last spatial pass's visibility of its result's samples (-1: not traced)
   // The last spatial pass's further samples (ReuseParams::shaded_samples), shaded and then forgotten.
   std::vector<std::vector<ReuseReservoir>> further;
 };
@@ -44,12 +45,15 @@ struct RestirSettings {
 // placement is this frame's where no light moved), and last frame's packed surfaces (empty: none).
 // same_geometry: no instance moved since last frame, so a shadow ray last frame traced sees what it would see now,
 // and temporal reuse takes last frame's shading verdicts instead of tracing their rays again (temporal_reuse).
+// known_visibility: the shading takes the verdicts spatial reuse traced this frame for its rays (spatial_reuse's
+// kept_visible); off only for a test that compares the two.
 struct RestirFrame {
   const LightList& lights;
   const LightList& prev_lights;
   vec3 eye, prev_eye;
   std::span<const PackedSurface> prev_surfaces;
   bool same_geometry = false;
+  bool known_visibility = true;
 };
 
 class Restir {

@@ -340,10 +340,11 @@ void write_further(const SceneView& view, const ReuseRow& row, int s, const int*
 // Combines every slot of a tile row (ReuseRow) into out[first + slot], with the targets evaluated in lanes
 // first where params.simd, and with pairwise MIS the combinations too (resample_lanes.h; slots whose targets
 // or visibilities are not all known combine one at a time); `streams` gives each slot's random numbers. A
-// slot without inputs keeps its reservoir of `in`. Returns the rays traced.
+// slot without inputs keeps its reservoir of `in`. `kept` (or null) receives per slot the input whose sample the
+// result holds (0 also for a slot without inputs, which keeps its own; -1: none). Returns the rays traced.
 uint64_t combine_row(const SceneView& view, const ReuseParams& params, int slots, ReuseRow& row,
                      const ReuseStreams& streams, size_t first, const std::vector<ReuseReservoir>& in,
-                     std::vector<ReuseReservoir>& out, const FurtherSamples* further = nullptr) {
+                     std::vector<ReuseReservoir>& out, const FurtherSamples* further = nullptr, int* kept = nullptr) {
   const bool weights = params.bias != BiasCorrection::None;
   uint64_t traced =
       params.simd ? evaluate_reuse_targets(view, slots, weights, weights && params.mis_visibility, row) : 0;
@@ -366,6 +367,7 @@ uint64_t combine_row(const SceneView& view, const ReuseParams& params, int slots
     const size_t i = first + size_t(s);
     ReuseReservoir& r = out[i];
     bool picked = false;  // picks and p_hat hold the slot's further samples
+    int chosen = 0;       // the input whose sample r holds (-1: none)
     if (row.count[s] == 0) {
       r = in[i];
     } else if (!in_lanes[s]) {
@@ -374,7 +376,8 @@ uint64_t combine_row(const SceneView& view, const ReuseParams& params, int slots
       Rng rng = streams.stream(s);
       resampled.chosen = -1;
       r = combine(view, inputs, row.count[s], params, params.simd ? &targets : nullptr, rng, traced,
-                  further ? &resampled : nullptr);
+                  further || kept ? &resampled : nullptr);
+      chosen = resampled.chosen;
       if ((picked = n > 1 && resampled.chosen >= 0 && r.W > 0.0f)) {
         systematic_picks(resampled.w, row.count[s], resampled.chosen, further->v[s], n, picks);
         for (int j = 1; j < n; ++j) p_hat[j] = resampled.p_hat[picks[j]];
@@ -382,7 +385,7 @@ uint64_t combine_row(const SceneView& view, const ReuseParams& params, int slots
     } else {
       // The kept input's sample, placed for the combining pixel, with the lanes' sums.
       static const ReuseSample kNone{};
-      const int chosen = int(lanes.result.chosen[s]);
+      chosen = int(lanes.result.chosen[s]);
       if (chosen >= 0)
         place_for_combiner(view, row.inputs[chosen][s], &row.inputs[0][s].domain->lights, r.y);
       else
@@ -395,6 +398,7 @@ uint64_t combine_row(const SceneView& view, const ReuseParams& params, int slots
         }
     }
     if (further) write_further(view, row, s, picked ? picks : nullptr, p_hat, r, i, *further);
+    if (kept) kept[s] = chosen;
   }
   return traced;
 }
@@ -568,13 +572,14 @@ void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& 
 void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std::vector<ReuseReservoir>& in,
                    const ReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
                    std::vector<ReuseReservoir>& out, RayCounter& rays,
-                   std::vector<std::vector<ReuseReservoir>>* further) {
+                   std::vector<std::vector<ReuseReservoir>>* further, std::vector<int8_t>* kept_visible) {
   const std::span<const PackedSurface> surfaces = current.surfaces;
   if (further && further->empty()) further = nullptr;
   if (further)
     for (std::vector<ReuseReservoir>& samples : *further) samples.resize(in.size());
   const int width = current.width, height = current.height;
-  out.resize(in.size());  // every pixel is written by its tile row below
+  out.resize(in.size());  // every pixel is written by its tile row below, and so is kept_visible
+  if (kept_visible) kept_visible->resize(in.size());
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
   // Pairwise MIS with visibility asks every neighbour whether its own sample is visible from it: asked
   // here once per pixel (one shadow ray each, 16 at a time in pixel order) instead of once per pixel and
@@ -710,7 +715,14 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
         batch.further_streams.fill(1, slots, batch.v);
       }
       const FurtherSamples more{further, batch.v};
-      traced += combine_row(view, params, slots, batch.row, now.streams, first, in, out, further ? &more : nullptr);
+      int kept[kLaneSlots];
+      traced += combine_row(view, params, slots, batch.row, now.streams, first, in, out, further ? &more : nullptr,
+                            kept_visible ? kept : nullptr);
+      // Where a pixel kept its own sample, the visibility traced for it above is its result's.
+      for (int s = 0; kept_visible && s < slots; ++s) {
+        const size_t i = first + size_t(s);
+        (*kept_visible)[i] = kept[s] == 0 && !own_visible.empty() ? own_visible[i] : int8_t(-1);
+      }
     }
     rays.add(traced);
   });

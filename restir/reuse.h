@@ -116,7 +116,7 @@ void reuse_mis_weights(const SceneView& view, const ReuseInput* inputs, int coun
 // `history_verdicts` (or null): last frame's shading verdicts on the history's samples (shade_reservoirs), given
 // where no geometry moved since. A verdict traced for the same sample from the same pixel answers the first of
 // those rays: the shading's shadow ray starts from the packed surface as reuse's rays do, so it is the same ray
-// against the same geometry, and the image stays the same bits (RestirDiReuse.HistoryVerdictsReplaceTemporalRays).
+// against the same geometry, and the image stays the same bits (RestirDiReuse.KnownVerdictsReplaceRays).
 void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& current, const ReuseDomain& previous,
                     const std::vector<ReuseReservoir>& reservoirs, const std::vector<ReuseReservoir>& history,
                     const ReuseParams& params, int frame, std::vector<ReuseReservoir>& out,
@@ -137,11 +137,15 @@ constexpr uint64_t spatial_stream(SpatialStream name, int pass) { return uint64_
 // disocclusion_neighbours instead. With `further` (ReuseParams::shaded_samples), each of its n - 1 vectors
 // receives one more sample of every pixel's combination, and the n samples are stratified over the combination's
 // weights (systematic resampling; in lanes with params.simd: systematic_picks_lanes); each is the combination's
-// estimator. Cost: a pass over the pixel's inputs' weights per further sample.
+// estimator. Cost: a pass over the pixel's inputs' weights per further sample. With `kept_visible`, it receives per
+// pixel whether out's sample is visible from the pixel's packed surface where the pass traced that ray (the pixel
+// kept its own sample, whose visibility pairwise MIS with visibility asks), else -1: the shading's first ray there
+// is the same ray (VisibilityReuse::known).
 void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std::vector<ReuseReservoir>& in,
                    const ReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
                    std::vector<ReuseReservoir>& out, RayCounter& rays,
-                   std::vector<std::vector<ReuseReservoir>>* further = nullptr);
+                   std::vector<std::vector<ReuseReservoir>>* further = nullptr,
+                   std::vector<int8_t>* kept_visible = nullptr);
 
 // Stage "boiling_filter": reads and rewrites the reservoirs. Temporal reuse can make a rare sample with
 // a huge contribution weight spread to its neighbours frame after frame ("boiling"); this drops every

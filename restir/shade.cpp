@@ -23,6 +23,7 @@ void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector
   const int samples = 1 + int(further.size());
   CHECK(samples <= kMaxShadedSamples);
   CHECK(!reuse.from_packed || g.packed.size() == g.size());
+  CHECK(!reuse.known || (reuse.from_packed && reuse.known->size() == g.size()));
   const float weight = 1.0f / float(samples);  // each sample's share of the pixel's estimate
   auto sampled = [&](int k) -> const std::vector<ReuseReservoir>& {
     return k == 0 ? reservoirs : further[size_t(k - 1)];
@@ -129,24 +130,26 @@ void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector
                                 lanes.contributions.value[2][s])
                          : sample_contribution(exact_receiver(g, view.camera.position(), view.lights, i), r.y).value;
             if (max_component(value) > 0.0f) {
-              // The first sample's verdict, reused from last frame where it may be (k == 0 only). Field by field
+              // The first sample's verdict (k == 0 only): the one reuse traced this frame for the same ray
+              // (reuse.known; its age stays 0), else one reused from last frame where it may be. Field by field
               // (visible and age stay the reset's): a whole SampleVisibility assembled on the stack was copied in
               // through an overlapping reload that stalled on store forwarding (15% of this stage's samples).
               const SampleVisibility* old = nullptr;
+              const int8_t known = k == 0 && reuse.known ? (*reuse.known)[i] : int8_t(-1);
               if (k == 0) {
                 v.light = r.y.light, v.uv = r.y.uv, v.valid = true;
-                const int32_t j = reusing ? (*reuse.history_pixel)[i] : -1;
+                const int32_t j = reusing && known < 0 ? (*reuse.history_pixel)[i] : -1;
                 old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
                 if (old && !(old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv))
                   old = nullptr;
               }
-              if (!old) {
+              if (!old && known < 0) {
                 queue.add(in_lanes ? lanes.rays.ray(s) : scalar_shadow_ray(i, r.y),
                           {i, L, value * (r.W * share), k == 0});
                 continue;
               }
-              v.visible = old->visible;
-              v.age = uint8_t(old->age + 1);
+              v.visible = old ? old->visible : known == 1;
+              if (old) v.age = uint8_t(old->age + 1);
               if (v.visible) L += value * (r.W * share);
             }
           }

@@ -29,6 +29,9 @@ struct VisibilityReuse {
   // exact ones, so that next frame's temporal reuse can take the first sample's verdict for its own ray to that sample
   // (temporal_reuse's history_verdicts; where the MIS weights include visibility).
   bool from_packed = false;
+  // With from_packed, or null: per pixel, the first sample's visibility where reuse traced that same ray this frame
+  // (spatial_reuse's kept_visible), else -1. Taken before a verdict of last frame's.
+  const std::vector<int8_t>* known = nullptr;
 };
 
 // Stages "di_shade" and "gi_shade": reads the G-buffer, reservoirs and, for ReSTIR DI, the unsampled light of its
@@ -39,10 +42,10 @@ struct VisibilityReuse {
 // in `non_finite`. With `further` samples (ReuseParams::shaded_samples) each of the n samples' terms counts 1/n,
 // and the further ones' verdicts are not kept; samples of a pixel that shade alike (same sample and W: the copies of
 // a pixel without reuse, or picks of one input) are shaded once with their shares summed. One shadow ray per pixel and
-// distinct sample (in packets of 16), except where the first sample's verdict is reused; from the packed surface with
-// reuse.from_packed, else from the exact one. With `simd`, the exact
-// receivers (built once per pixel for all its samples) and contributions are evaluated in lanes (target_lanes.h; the
-// scalar path, the reference, gives the same bits).
+// distinct sample (in packets of 16), except where the first sample's verdict is known (reuse.known) or reused; from
+// the packed surface with reuse.from_packed, else from the exact one. With `simd`, the exact receivers (built once per
+// pixel for all its samples) and contributions are evaluated in lanes (target_lanes.h; the scalar path, the reference,
+// gives the same bits).
 void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector<ReuseReservoir>& reservoirs,
                       const std::vector<std::vector<ReuseReservoir>>& further, const std::vector<vec3>* unsampled,
                       const VisibilityReuse& reuse, bool simd, std::vector<SampleVisibility>& visibility, Image& sum,

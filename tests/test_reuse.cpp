@@ -334,6 +334,8 @@ TEST(RestirDiReuse, SamplesThatShadeAlikeAreShadedOnce) {
                                           {"di_shaded_samples", 1},
                                           {"gi_shaded_samples", samples}});
     s.gi_reuse.min_roughness = 2.0f;  // beyond the option's range: no surface is rough enough for reuse
+    // Every pixel keeps its own sample, whose verdict spatial reuse traced: the shading would trace no ray at all.
+    s.test.retrace_known_visibility = true;
     Renderer renderer(scene, s);
     shade_rays = 0;
     for (int frame = 0; frame < 3; ++frame) {
@@ -357,34 +359,45 @@ TEST(RestirDiReuse, SamplesThatShadeAlikeAreShadedOnce) {
   }
 }
 
-// Still scene and camera: ReSTIR GI's temporal reuse takes last frame's shading verdicts on its history's samples
-// (RestirFrame::same_geometry) instead of tracing those rays again. A verdict answers the very ray it replaces (the
-// same origin on the packed surface, the same sample, the same geometry), so the images must be the same bits as
-// with every ray traced (the test switch retrace_history_visibility), frame after frame, with fewer temporal rays:
-// a verdict of another pixel, another sample, or one the shading itself reused would change the pairwise weights.
-TEST(RestirDiReuse, HistoryVerdictsReplaceTemporalRays) {
+// Still scene and camera, ReSTIR GI (whose MIS weights include visibility): temporal reuse takes last frame's shading
+// verdicts on its history's samples (RestirFrame::same_geometry), and the shading takes spatial reuse's verdicts where
+// a pixel kept its own sample, instead of tracing those rays again. A verdict answers the very ray it replaces (the
+// same origin on the packed surface, the same sample, the same geometry), so the images must be the same bits as with
+// every ray traced (the test switch retrace_known_visibility), frame after frame, with fewer rays in both stages: a
+// verdict of another pixel, another sample, or one the shading itself reused would change the pairwise weights or the
+// shading.
+TEST(RestirDiReuse, KnownVerdictsReplaceRays) {
   const Scene scene = make_manylights_scene(256, 7);
-  auto run = [&](bool retrace, uint64_t& temporal_rays) {
+  auto run = [&](bool retrace, uint64_t& temporal_rays, uint64_t& shade_rays) {
     RenderSettings s = testing::settings(
         {{"width", 96}, {"height", 54}, {"method", "restir"}, {"max_depth", 3}, {"accumulate", false}, {"seed", 5}});
-    s.test.retrace_history_visibility = retrace;
+    s.test.retrace_known_visibility = retrace;
     Renderer renderer(scene, s);
-    temporal_rays = 0;
+    temporal_rays = shade_rays = 0;
     std::vector<Image> frames;
     for (int frame = 0; frame < 6; ++frame) {
       FrameStats stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
-      for (const StageStats& st : stats.stages)
+      for (const StageStats& st : stats.stages) {
         if (st.name == "gi_temporal") temporal_rays += st.rays;
+        if (st.name == "gi_shade") shade_rays += st.rays;
+      }
       frames.push_back(renderer.image());
     }
     return frames;
   };
-  uint64_t traced = 0, reused = 0;
-  const std::vector<Image> all = run(true, traced), some = run(false, reused);
-  std::printf("gi_temporal rays over 6 frames: %llu all traced, %llu with last frame's verdicts (%.2fx)\n",
-              (unsigned long long)traced, (unsigned long long)reused, double(reused) / double(traced));
-  ASSERT_GT(traced, 10000u);
-  EXPECT_LT(double(reused), 0.75 * double(traced));
+  uint64_t temporal_traced = 0, temporal_known = 0, shade_traced = 0, shade_known = 0;
+  const std::vector<Image> all = run(true, temporal_traced, shade_traced);
+  const std::vector<Image> some = run(false, temporal_known, shade_known);
+  std::printf(
+      "rays over 6 frames, all traced / with the verdicts known: gi_temporal %llu / %llu (%.2fx), gi_shade "
+      "%llu / %llu (%.2fx)\n",
+      (unsigned long long)temporal_traced, (unsigned long long)temporal_known,
+      double(temporal_known) / double(temporal_traced), (unsigned long long)shade_traced,
+      (unsigned long long)shade_known, double(shade_known) / double(shade_traced));
+  ASSERT_GT(temporal_traced, 10000u);
+  ASSERT_GT(shade_traced, 10000u);
+  EXPECT_LT(double(temporal_known), 0.75 * double(temporal_traced));
+  EXPECT_LT(double(shade_known), 0.95 * double(shade_traced));
   for (size_t f = 0; f < all.size(); ++f) {
     size_t differing = 0;
     for (size_t i = 0; i < all[f].pixels.size(); ++i) differing += some[f].pixels[i] != all[f].pixels[i];
