@@ -26,8 +26,8 @@ struct VisibilityReuse {
   const std::vector<int32_t>* history_pixel = nullptr;      // from temporal reuse (null: no history)
   const std::vector<SampleVisibility>* previous = nullptr;  // last frame's verdicts
   // The shadow rays start from the packed surfaces (GBuffer::packed), as reuse's visibility rays do, instead of the
-  // exact ones, so that next frame's temporal reuse can take the first sample's verdict for its own ray to that sample
-  // (temporal_reuse's history_verdicts; where the MIS weights include visibility).
+  // exact ones, so that reuse and shading can take each other's verdicts on the same ray (`known` below, and next
+  // frame's temporal reuse: temporal_reuse's history_verdicts; where the MIS weights include visibility).
   bool from_packed = false;
   // With from_packed, or null: per pixel, the first sample's visibility where reuse traced that same ray this frame
   // (spatial_reuse's kept_visible), else -1. Taken before a verdict of last frame's.
