@@ -504,8 +504,7 @@ void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& 
   auto verdict_on = [&](const ReuseInput& in) {
     if (!history_verdicts) return -1;
     const SampleVisibility& v = (*history_verdicts)[in.pixel];
-    const ReuseSample& y = in.reservoir->y;
-    return v.valid && v.age == 0 && v.light == y.light && v.uv == y.uv ? int(v.visible) : -1;
+    return v.on(in.reservoir->y) && v.age == 0 ? int(v.visible) : -1;
   };
   auto trace_own_visibility = [&](int slots, ReuseRow& row) {
     auto answer = [&](int s, const RayPacket16& packet, int lane) {

@@ -140,8 +140,7 @@ void shade_reservoirs(const SceneView& view, const GBuffer& g, const std::vector
                 v.light = r.y.light, v.uv = r.y.uv, v.valid = true;
                 const int32_t j = reusing && known < 0 ? (*reuse.history_pixel)[i] : -1;
                 old = j >= 0 ? &(*reuse.previous)[size_t(j)] : nullptr;
-                if (old && !(old->valid && old->age < reuse.max_age && old->light == r.y.light && old->uv == r.y.uv))
-                  old = nullptr;
+                if (old && !(old->on(r.y) && old->age < reuse.max_age)) old = nullptr;
               }
               if (!old && known < 0) {
                 queue.add(in_lanes ? lanes.rays.ray(s) : scalar_shadow_ray(i, r.y),

@@ -16,6 +16,8 @@ struct SampleVisibility {
   bool valid = false;  // a verdict exists (false where nothing was traced)
   bool visible = false;
   uint8_t age = 0;  // frames this verdict has been reused
+  // Whether this is a verdict on sample s (the same light and uniforms).
+  bool on(const ReuseSample& s) const { return valid && light == s.light && uv == s.uv; }
 };
 
 // Final visibility reuse: a pixel whose sample is the one its temporal history pixel shaded last frame
