@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 
@@ -213,12 +214,24 @@ BenchResults run_registered_benchmarks(const BenchOptions& o) {
   return results;
 }
 
+// The processor's name as Linux reports it (/proc/cpuinfo's first "model name"), or "an unnamed CPU": ratios such as
+// frame / rays differ between machines (docs/performance.md), so every run says which one it measured.
+static std::string cpu_model() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);)
+    if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) {
+      const size_t value = line.find_first_not_of(" \t", line.find(':') + 1);
+      if (value != std::string::npos) return line.substr(value);
+    }
+  return "an unnamed CPU";
+}
+
 int run_bench(const BenchOptions& options) {
   // Image size: the suite's default unless given.
   BenchOptions o = options;
   if (o.width == 0) o.width = o.suite == "soak" ? 64 : 1280;
   if (o.height == 0) o.height = o.suite == "soak" ? 36 : 720;
-  std::fprintf(stderr, "SIMD kernels run with %s\n", simd_target_name());
+  std::fprintf(stderr, "SIMD kernels run with %s on %s\n", simd_target_name(), cpu_model().c_str());
   if (o.suite == "soak") return run_soak_bench(o);
   if (o.suite == "samplers") return run_sampler_bench(o);
   if (o.suite == "restir") return run_restir_bench(o);
