@@ -42,11 +42,16 @@ static bool reuse_traces_visibility(const ReuseParams& reuse) {
   return reuse.mis_visibility && reuse.bias == BiasCorrection::Pairwise;
 }
 
+bool Restir::reuses_history(const GBuffer& g, const ReuseParams& reuse, int pass, const ReservoirChain& chain) {
+  return reuse.temporal && pass == 0 && chain.history.size() == g.size();
+}
+
 bool Restir::find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
-                          const ReuseParams& reuse, int key, int pass, ReservoirChain& chain, FrameStats& stats) const {
-  if (!reuse.temporal || pass != 0 || chain.history.size() != g.size()) return false;
+                          const ReuseParams& reuse, int key, int pass, ReservoirChain& chain, FrameStats& stats,
+                          const SecondHistory* second) const {
+  if (!reuses_history(g, reuse, pass, chain)) return false;
   StageTimer timer(stats, prefix + "_history");
-  find_history_pixels(g, current_domain(frame, g), previous_domain(frame, g), reuse, key, chain.history_pixel);
+  find_history_pixels(g, current_domain(frame, g), previous_domain(frame, g), reuse, key, chain.history_pixel, second);
   return true;
 }
 

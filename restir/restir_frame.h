@@ -81,10 +81,14 @@ class Restir {
   ReuseDomain previous_domain(const RestirFrame& frame, const GBuffer& g) const;
 
  private:
-  // Stage "<prefix>_history" where this pass reuses the chain's history (the first pass of a frame, with temporal
-  // reuse on and a history of this size): find_history_pixels into chain.history_pixel. Returns whether it ran.
+  // Whether this pass reuses the chain's history: the first pass of a frame, with temporal reuse on and a history of
+  // this size.
+  static bool reuses_history(const GBuffer& g, const ReuseParams& reuse, int pass, const ReservoirChain& chain);
+  // Stage "<prefix>_history" where reuses_history: find_history_pixels into chain.history_pixel (and `second`'s, if
+  // given). Returns whether it ran.
   bool find_history(const GBuffer& g, const RestirFrame& frame, const std::string& prefix, const ReuseParams& reuse,
-                    int key, int pass, ReservoirChain& chain, FrameStats& stats) const;
+                    int key, int pass, ReservoirChain& chain, FrameStats& stats,
+                    const SecondHistory* second = nullptr) const;
   // `temporal`: find_history ran.
   void reuse_and_shade(const SceneView& view, const GBuffer& g, const RestirFrame& frame, const std::string& prefix,
                        const ReuseParams& reuse, int key, bool temporal, const std::vector<vec3>* unsampled,
@@ -102,6 +106,7 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
   const int key = frame_index * 4096 + pass;
   CHECK(g.packed.size() == g.size());
   const ReuseDomain current = current_domain(frame, g);
+  bool gi_history_found = false;  // GI's history found in DI's stage "di_history"
   if (!settings_.with_gi || !settings_.gi_only) {
     DiParams params = settings_.di;
     params.seed = settings_.seed;
@@ -114,8 +119,14 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
     ReuseParams reuse = settings_.di_reuse;
     reuse.seed = settings_.seed;
     // Temporal reuse's history found first: the light candidates take fewer where it is
-    // (DiParams::history_light_candidates).
-    const bool temporal = find_history(g, frame, "di", reuse, key, pass, di_, stats);
+    // (DiParams::history_light_candidates). GI's comes with it where it follows from DI's (history_follows: by
+    // default it does, less GI's smooth pixels), which saves GI's stage "gi_history".
+    const bool gi_with_di = settings_.with_gi && reuses_history(g, settings_.gi_reuse, pass, gi_) &&
+                            history_follows(reuse, settings_.gi_reuse);
+    const SecondHistory gi_history{settings_.gi_reuse.min_roughness, &gi_.history_pixel};
+    const bool temporal =
+        find_history(g, frame, "di", reuse, key, pass, di_, stats, gi_with_di ? &gi_history : nullptr);
+    gi_history_found = temporal && gi_with_di;
     {
       StageTimer timer(stats, "di_candidates");
       di_initial_candidates(view, sampler, g, current, params, key, di_.initial, unsampled_, timer.rays(), tiles,
@@ -132,7 +143,7 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
   }
   ReuseParams reuse = settings_.gi_reuse;
   reuse.seed = params.seed;
-  const bool temporal = find_history(g, frame, "gi", reuse, key, pass, gi_, stats);
+  const bool temporal = gi_history_found || find_history(g, frame, "gi", reuse, key, pass, gi_, stats);
   reuse_and_shade(view, g, frame, "gi", reuse, key, temporal, nullptr, gi_, stats, sum);
 }
 

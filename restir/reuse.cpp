@@ -440,13 +440,22 @@ void reuse_mis_weights(const SceneView& view, const ReuseInput* inputs, int coun
     weights[role] = mis_weight(view, inputs, targets, count, source, role, y, p_hat_here, params, rays);
 }
 
+bool history_follows(const ReuseParams& first, const ReuseParams& second) {
+  return first.temporal && second.temporal && first.min_roughness <= second.min_roughness &&
+         first.depth_tolerance == second.depth_tolerance && first.normal_tolerance == second.normal_tolerance &&
+         first.simd == second.simd && !first.permutation_sampling && !second.permutation_sampling;
+}
+
 void find_history_pixels(const GBuffer& g, const ReuseDomain& current, const ReuseDomain& previous,
-                         const ReuseParams& params, int frame, std::vector<int32_t>& history_pixel) {
+                         const ReuseParams& params, int frame, std::vector<int32_t>& history_pixel,
+                         const SecondHistory* second) {
   if (previous.surfaces.size() != g.size()) {  // no surfaces last frame: nothing to reuse
     history_pixel.assign(g.size(), -1);
+    if (second) second->history_pixel->assign(g.size(), -1);
     return;
   }
   history_pixel.resize(g.size());  // every pixel is written by its tile row below
+  if (second) second->history_pixel->resize(g.size());
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     thread_local NeighbourLanes lanes;  // params.simd: whether the reprojected pixel's surface is similar
     const int slots = tile.x1 - tile.x0;
@@ -478,6 +487,9 @@ void find_history_pixels(const GBuffer& g, const ReuseDomain& current, const Reu
                                            : similar_surfaces(current.surfaces[i], current.surfaces[i].shading_n(),
                                                               previous.surfaces[size_t(found[s])], params)))
           found[s] = -1;
+        // reprojected_pixel's first test with the second chain's roughness bound; the others are this chain's.
+        if (second)
+          (*second->history_pixel)[i] = current.surfaces[i].roughness() < second->min_roughness ? -1 : found[s];
       }
     }
   });

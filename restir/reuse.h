@@ -96,9 +96,21 @@ bool similar_surfaces(const PackedSurface& a, const vec3& a_n, const PackedSurfa
 // holds a similar surface last frame (similar_surfaces; in lanes with params.simd), else -1 (everywhere
 // without last frame's surfaces), into `history_pixel`, sized here. It runs before the light candidates, which take
 // fewer where history is found (DiParams::history_light_candidates). Cost per pixel: a reprojection and one packed
-// surface of last frame read.
+// surface of last frame read. With `second` (ReSTIR GI's history found in DI's pass, see history_follows), also
+// second->history_pixel: the same pixels, -1 where the surface is smoother than second->min_roughness; one more
+// store per pixel.
+struct SecondHistory {
+  float min_roughness;
+  std::vector<int32_t>* history_pixel;
+};
 void find_history_pixels(const GBuffer& g, const ReuseDomain& current, const ReuseDomain& previous,
-                         const ReuseParams& params, int frame, std::vector<int32_t>& history_pixel);
+                         const ReuseParams& params, int frame, std::vector<int32_t>& history_pixel,
+                         const SecondHistory* second = nullptr);
+
+// Whether find_history_pixels with `second` gives what the pass with `first` gives less the pixels smoother than
+// second.min_roughness (SecondHistory): both reuse temporally with the same tolerances and the same evaluation
+// (simd), neither permutes (its pattern is keyed on the chain's seed), and `first` rejects no pixel `second` keeps.
+bool history_follows(const ReuseParams& first, const ReuseParams& second);
 
 // The resampling MIS weights m_z(y), z = 0..count-1, that params.bias gives every input of a combination
 // for the sample y of input `source` (input 0: the pixel that combines, whose frame y is placed in), into

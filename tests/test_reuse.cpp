@@ -7,7 +7,8 @@
 // brightens or darkens the image by that factor, which is how every unbiasedness bug of reuse shows.
 //
 // RestirDiReuse: ReSTIR DI reuse beyond the core stages: the disocclusion boost, the boiling filter, final
-// visibility reuse (moving lights: Unbiased.MovingLights) and the shading of repeated shaded samples.
+// visibility reuse (moving lights: Unbiased.MovingLights), the shading of repeated shaded samples, the verdicts
+// handed between stages and GI's history found in DI's pass.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include "engine/builtin_scenes.h"
 #include "engine/image_metrics.h"
 #include "restir/reuse.h"
+#include "tests/flythrough.h"
 #include "tests/render_helpers.h"
 #include "tests/settings_builder.h"
 
@@ -403,6 +405,54 @@ TEST(RestirDiReuse, KnownVerdictsReplaceRays) {
     for (size_t i = 0; i < all[f].pixels.size(); ++i) differing += some[f].pixels[i] != all[f].pixels[i];
     EXPECT_EQ(differing, 0u) << "frame " << f;
   }
+}
+
+// ReSTIR GI's history found in DI's stage "di_history" (history_follows, SecondHistory): on a camera flying through
+// city, whose dark windows are smoother than GI's roughness bound, it must be the history GI's own pass finds, pixel
+// for pixel. The frame runs no "gi_history" stage then, and does where GI's history cannot follow DI's (GI permutes).
+TEST(RestirDiReuse, GiHistoryComesWithDis) {
+  const Scene scene = make_city_scene(7);
+  auto stages = [&](Renderer& renderer) {
+    std::set<std::string> names;
+    for (int frame = 0; frame < 3; ++frame) {
+      const FrameStats stats = testing::render_checked(renderer, frame, float(frame) / 30.0f,
+                                                       testing::flythrough_camera(scene.default_camera(), frame));
+      names.clear();
+      for (const StageStats& st : stats.stages) names.insert(st.name);
+    }
+    return names;
+  };
+  const RenderSettings s = testing::settings(
+      {{"width", 96}, {"height", 54}, {"method", "restir"}, {"max_depth", 3}, {"accumulate", false}, {"seed", 3}});
+  Renderer renderer(scene, s);
+  const std::set<std::string> names = stages(renderer);
+  EXPECT_TRUE(names.count("di_history"));
+  EXPECT_FALSE(names.count("gi_history"));
+  ASSERT_TRUE(history_follows(s.di_reuse, s.gi_reuse));
+  std::vector<int32_t> di, gi_with_di, gi_own;
+  const SecondHistory second{s.gi_reuse.min_roughness, &gi_with_di};
+  const ReuseDomain current = renderer.current_domain(), previous = renderer.previous_domain();
+  find_history_pixels(renderer.gbuffer(), current, previous, s.di_reuse, 2, di, &second);
+  find_history_pixels(renderer.gbuffer(), current, previous, s.gi_reuse, 2, gi_own);
+  ASSERT_EQ(gi_with_di.size(), gi_own.size());
+  size_t differing = 0, found = 0, lost = 0, smooth = 0;
+  for (size_t i = 0; i < gi_own.size(); ++i) {
+    differing += gi_with_di[i] != gi_own[i];
+    found += gi_own[i] >= 0;
+    lost += current.surfaces[i].hit() && di[i] < 0;
+    smooth += di[i] >= 0 && gi_own[i] < 0;
+  }
+  std::printf("%zu pixels: GI's history found for %zu, lost by both chains for %zu, DI's only (smooth) for %zu\n",
+              gi_own.size(), found, lost, smooth);
+  EXPECT_EQ(differing, 0u);
+  EXPECT_GT(found, 1000u);
+  EXPECT_GT(lost, 10u);
+  EXPECT_GT(smooth, 10u);
+
+  const RenderSettings permuted = testing::settings({{"gi_permutation", true}}, s);
+  EXPECT_FALSE(history_follows(permuted.di_reuse, permuted.gi_reuse));
+  Renderer own(scene, permuted);
+  EXPECT_TRUE(stages(own).count("gi_history"));
 }
 
 }  // namespace
