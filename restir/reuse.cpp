@@ -691,13 +691,17 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
     uint32_t start[kLaneSlots] = {};  // block > 1: each slot's block's start
   };
   // Row y's neighbours into `r`: the blocks' starts, one draw per block (a keyed stream costs about as much as the
-  // pixel's own), then each pixel's.
-  auto draw_row = [&](const Tile& tile, int y, RowDraws& r) {
+  // pixel's own) or the row above's (`above`, or null) where it lies in the same blocks, then each pixel's.
+  auto draw_row = [&](const Tile& tile, int y, const RowDraws* above, RowDraws& r) {
     const int slots = tile.x1 - tile.x0;
     const size_t first = size_t(y) * size_t(width) + size_t(tile.x0);
-    for (int s = 0; block > 1 && s < slots; ++s) {
-      const int x = tile.x0 + s;
-      r.start[s] = s > 0 && x % block != 0 ? r.start[s - 1] : block_start(x, y);
+    if (block > 1 && above && (y - 1) / block == y / block) {
+      std::copy(above->start, above->start + slots, r.start);
+    } else {
+      for (int s = 0; block > 1 && s < slots; ++s) {
+        const int x = tile.x0 + s;
+        r.start[s] = s > 0 && x % block != 0 ? r.start[s - 1] : block_start(x, y);
+      }
     }
     r.streams.key(slots, params.seed, first, uint64_t(frame), spatial_stream(kPixelStreams, pass));  // Rng::for_key
     for (int s = 0; s < slots; ++s) draw(first + size_t(s), tile.x0 + s, y, r.start[s], r.streams, s, r.drawn[s]);
@@ -713,11 +717,11 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
     thread_local Batch batch;
     const int slots = tile.x1 - tile.x0;
     uint64_t traced = 0;
-    draw_row(tile, tile.y0, batch.draws[0]);
+    draw_row(tile, tile.y0, nullptr, batch.draws[0]);
     for (int y = tile.y0; y < tile.y1; ++y) {
       const size_t first = size_t(y) * size_t(width) + size_t(tile.x0);
       RowDraws& now = batch.draws[(y - tile.y0) % 2];
-      if (y + 1 < tile.y1) draw_row(tile, y + 1, batch.draws[(y + 1 - tile.y0) % 2]);
+      if (y + 1 < tile.y1) draw_row(tile, y + 1, &now, batch.draws[(y + 1 - tile.y0) % 2]);
       if (params.simd) test_similar(first, slots, now.drawn, batch.neighbours);
       for (int s = 0; s < slots; ++s)
         select(first + size_t(s), now.drawn[s], params.simd ? &batch.neighbours : nullptr, s, batch.row);
