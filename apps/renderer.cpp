@@ -89,9 +89,9 @@ void Renderer::update_scene(float time, const CameraDesc& camera, FrameStats& st
       if (std::holds_alternative<ExhaustiveLightSampler>(sampler_)) sampler_ = ExhaustiveLightSampler(lights_);
     }
     moved = true;
-    lights_moved_ = has_frame_;
+    instances_moved_ = has_frame_;
   } else if (has_frame_) {
-    lights_moved_ = false;
+    instances_moved_ = false;
     for (Instance& inst : scene_.instances) inst.prev_transform = inst.transform;
   }
   Camera next(camera, settings_.width, settings_.height);
@@ -180,8 +180,8 @@ void Renderer::path_trace_pass(const SceneView& view, int frame_index, int done,
 }
 
 RestirFrame Renderer::restir_frame() const {
-  const bool moved = lights_moved_ && !settings_.test.stale_light_history;
-  const bool same_geometry = !lights_moved_ && !settings_.test.retrace_known_visibility;
+  const bool moved = instances_moved_ && !settings_.test.stale_light_history;
+  const bool same_geometry = !instances_moved_ && !settings_.test.retrace_known_visibility;
   return {.lights = lights_,
           .prev_lights = moved ? prev_lights_ : lights_,
           .eye = camera_.position(),

@@ -132,8 +132,8 @@ class Renderer {
   RenderSettings settings_;
   std::unique_ptr<Tracer> tracer_;
   LightList lights_;
-  LightList prev_lights_;      // last frame's light placement (scenes with motion only)
-  bool lights_moved_ = false;  // animated instances moved since last frame (and with them lights_, if they emit)
+  LightList prev_lights_;         // last frame's light placement (scenes with motion only)
+  bool instances_moved_ = false;  // animated instances moved since last frame (and with them lights_, if they emit)
   AnyLightSampler sampler_;
   Camera camera_, prev_camera_;
   CameraDesc camera_desc_;
