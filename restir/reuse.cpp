@@ -567,9 +567,10 @@ void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& 
         constexpr uint8_t kAgeStep = 1;  // last frame's sample is a frame older where this frame reuses it
         const ReuseReservoir& old = history[size_t(j)];
         if (params.max_sample_age > 0 && aged_by(old.y.age, kAgeStep) > params.max_sample_age) continue;
-        batch.row.inputs[0][s] = {&reservoirs[i], &current, i, reservoirs[i].M};
-        batch.row.inputs[1][s] = {&old, &previous, size_t(j), std::min(old.M, params.history_cap * reservoirs[i].M)};
-        batch.row.inputs[1][s].age_step = kAgeStep;
+        batch.row.set_input(0, s, {&reservoirs[i], &current, i, reservoirs[i].M});
+        ReuseInput history_input{&old, &previous, size_t(j), std::min(old.M, params.history_cap * reservoirs[i].M)};
+        history_input.age_step = kAgeStep;
+        batch.row.set_input(1, s, history_input);
         batch.row.count[s] = 2;
         history_pixel[i] = int32_t(j);
       }
@@ -674,12 +675,12 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
     int& count = row.count[s];
     count = 0;
     if (!d.active) return;
-    row.inputs[count++][s] = {&in[i], &current, i, in[i].M};
+    row.set_input(count++, s, {&in[i], &current, i, in[i].M});
     const vec3 n = lanes ? vec3(0.0f) : surfaces[i].shading_n();
     for (int c = 0; c < d.count; ++c) {
       size_t j = d.pixels[c];
       if (lanes ? lanes->similar[c][s] != 0 : similar_surfaces(surfaces[i], n, surfaces[j], params))
-        row.inputs[count++][s] = {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
+        row.set_input(count++, s, {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]});
     }
   };
   // Per tile row: every pixel's neighbours drawn first, a row ahead (so that the cache misses of their surfaces and

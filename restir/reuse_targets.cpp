@@ -35,19 +35,6 @@ void set_placed(const Scene& scene, const ReuseRow& row, int k, int s, const Lig
     plane.clear(s);
 }
 
-// The row's reservoir planes (ReuseRow::W, own, sampled) from its inputs' reservoirs: one read of each.
-void copy_reservoir_planes(int slots, ReuseRow& row) {
-  for (int s = 0; s < slots; ++s) {
-    uint32_t sampled = 0;
-    for (int k = 0; k < row.count[s]; ++k) {
-      const ReuseReservoir& r = *row.inputs[k][s].reservoir;
-      row.W[k][s] = r.W, row.own[k][s] = r.p_hat_y;
-      sampled |= uint32_t(r.W > 0.0f) << k;
-    }
-    row.sampled[s] = sampled;
-  }
-}
-
 static_assert(kLaneSlots <= 64, "a row's slots fit the bits of a uint64_t");
 
 // The scratch planes of one thread.
@@ -153,7 +140,6 @@ uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combin
     here = row.inputs[0][s].domain;
     first = row.inputs[0][s].pixel - size_t(s);
   }
-  copy_reservoir_planes(slots, row);
   if (max_count < 2) return 0;
   for (int s = 0; s < slots; ++s) CHECK(row.count[s] == 0 || row.inputs[0][s].pixel == first + size_t(s));
   targets_at_combiners(view.scene, *here, first, slots, max_count, row, planes);

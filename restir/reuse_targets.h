@@ -28,18 +28,27 @@ inline constexpr int kMaxReuseInputs = 32;  // a pixel and up to 31 neighbours
 struct ReuseRow {
   int count[kLaneSlots];
   ReuseInput inputs[kMaxReuseInputs][kLaneSlots];
-  // Copied from the inputs' reservoirs by evaluate_reuse_targets, which reads them first, so that the later passes over
-  // the row (the placements, targets_known, the combination lanes) read planes instead of following each input's
-  // pointer again: W[k][s] and own[k][s] are input k's W and p_hat_y (k < count[s]); bit k of sampled[s]: its W > 0.
+  // Copied from the inputs' reservoirs by set_input, where the stage that gathers the inputs reads them first, so that
+  // the later passes over the row (the placements, targets_known, the combination lanes) read planes instead of
+  // following each input's pointer again: W[k][s] and own[k][s] are input k's W and p_hat_y (k < count[s]); bit k of
+  // sampled[s]: its W > 0.
   uint32_t sampled[kLaneSlots];
   alignas(64) float W[kMaxReuseInputs][kLaneSlots];
   alignas(64) float own[kMaxReuseInputs][kLaneSlots];
   uint32_t known_at[kLaneSlots], known_of[kLaneSlots], known_visible[kLaneSlots], visible[kLaneSlots];
   alignas(64) float at_combiner[kMaxReuseInputs][kLaneSlots];
   alignas(64) float of_combiner[kMaxReuseInputs][kLaneSlots];
+
+  // Input k of slot s, with its reservoir's planes; a slot's inputs are set in order from k = 0.
+  void set_input(int k, int s, const ReuseInput& in) {
+    inputs[k][s] = in;
+    const ReuseReservoir& r = *in.reservoir;
+    W[k][s] = r.W, own[k][s] = r.p_hat_y;
+    sampled[s] = (k == 0 ? 0u : sampled[s]) | uint32_t(r.W > 0.0f) << k;
+  }
 };
 
-// Fills the reservoir planes of row's slots [0, slots) (W, own, sampled), then their targets: p_0(y_k) for every input
+// The targets of row's slots [0, slots): p_0(y_k) for every input
 // k >= 1 with a sample, with `of_combiner` (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a
 // sample, and with `visibility` (MIS weights with visibility) whether y_0 is visible from input k's surface where
 // p_k(y_0) > 0. Cost per slot and input: 2 receiver builds and 2 target evaluations in lanes, plus transposing surfaces
