@@ -48,12 +48,12 @@ struct ReuseRow {
   }
 };
 
-// The targets of row's slots [0, slots): p_0(y_k) for every input
-// k >= 1 with a sample, with `of_combiner` (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a
-// sample, and with `visibility` (MIS weights with visibility) whether y_0 is visible from input k's surface where
-// p_k(y_0) > 0. Cost per slot and input: 2 receiver builds and 2 target evaluations in lanes, plus transposing surfaces
-// and samples into planes (and placing a moved light's sample on it again), and with visibility one shadow ray, traced
-// in packets of 16 in slot order. Returns the rays traced.
+// The targets of row's slots [0, slots) (whose inputs set_input gave): p_0(y_k) for every input k >= 1 with a sample,
+// with `of_combiner` (the MIS weights read it) p_k(y_0) where the slot's own reservoir has a sample, and with
+// `visibility` (MIS weights with visibility) whether y_0 is visible from input k's surface where p_k(y_0) > 0. Cost per
+// slot and input: 2 receiver builds and 2 target evaluations in lanes, plus transposing surfaces and samples into
+// planes (and placing a moved light's sample on it again), and with visibility one shadow ray, traced in packets of 16
+// in slot order. Returns the rays traced.
 uint64_t evaluate_reuse_targets(const SceneView& view, int slots, bool of_combiner, bool visibility, ReuseRow& row);
 
 }  // namespace candela
