@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs a candela command line and checks how it ends.
 #   cli_expect.sh fail STATUS REGEX OUTPUT -- CMD...   must exit with STATUS (2: bad input), print an
-#                                               `error:` line matching REGEX on stderr, and leave no OUTPUT file behind
+#                                               `error:` line matching REGEX on stderr, and leave no OUTPUT file
+#                                               behind, nor a temporary file named after it
 #   cli_expect.sh ok FILE... -- CMD... [--then CHECK...]
 #                                               must exit 0 and write every FILE (removed first); then
 #                                               CHECK (tests/check_outputs.cpp: the files' content) must exit 0
@@ -22,7 +23,10 @@ if [ "$mode" = fail ]; then
   [ $rc -eq "$status" ] || { echo "expected exit $status, got $rc: $err"; exit 1; }
   echo "$err" | grep -Eq -- "^error: .*$regex" || { echo "stderr has no 'error: ...$regex' line: $err"; exit 1; }
   [ ! -e "$output" ] || { echo "$output was written"; exit 1; }
-  ls "$(dirname "$output")"/.*.tmp* >/dev/null 2>&1 && { echo "temporary file left behind"; exit 1; }
+  # This test's temporary files only (the writers name them ".<stem>...tmp..."; a test's files are named after it):
+  # the tests run in parallel in one directory, where another test's file may be half-written at this moment.
+  stem=$(basename "${output%.*}")
+  ls "$(dirname "$output")/.$stem"*.tmp* >/dev/null 2>&1 && { echo "temporary file left behind"; exit 1; }
   exit 0
 fi
 for f in "${args[@]}"; do rm -f "$f"; done
