@@ -82,14 +82,13 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
   // The last spatial pass keeps shaded_samples samples of each combination (spatial_reuse's further samples):
   // each is the combination's estimator, so their mean is unbiased and averages out part of what one sample's shadow
   // ray leaves.
-  const int samples =
-      reuse.spatial && reuse.spatial_passes > 0 ? std::clamp(reuse.shaded_samples, 1, kMaxShadedSamples) : 1;
+  const int passes = reuse.spatial ? std::max(reuse.spatial_passes, 0) : 0;
+  const int samples = passes > 0 ? std::clamp(reuse.shaded_samples, 1, kMaxShadedSamples) : 1;
   chain.further.resize(size_t(samples - 1));
-  const bool known =
-      reuse.spatial && reuse.spatial_passes > 0 && reuse_traces_visibility(reuse) && frame.known_visibility;
-  for (int k = 0; reuse.spatial && k < reuse.spatial_passes; ++k) {
+  const bool known = passes > 0 && reuse_traces_visibility(reuse) && frame.known_visibility;
+  for (int k = 0; k < passes; ++k) {
     StageTimer timer(stats, prefix + "_spatial");
-    const bool last = k == reuse.spatial_passes - 1;
+    const bool last = k == passes - 1;
     spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr,
                   chain.spatial[k % 2], timer.rays(), last ? &chain.further : nullptr,
                   last && known ? &chain.kept_visible : nullptr);
