@@ -196,7 +196,7 @@ uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerPa
     });
     size_t kept = 0;
     for (uint32_t k : live) {
-      if (paths[k].light_pending) shadows.add(paths[k].shadow, k);
+      shadows.add_if(paths[k].light_pending, paths[k].shadow, k);
       live[kept] = k, kept += paths[k].alive ? 1 : 0;  // without a branch: which paths go on is unpredictable
     }
     shadows.finish();

@@ -118,7 +118,7 @@ struct PathState {
   bool alive = true;     // `ray` is still to be traced
   bool overflowed = false;
   bool light_pending = false;
-  Ray shadow;
+  Ray shadow{vec3(0.0f), vec3(0.0f)};  // initialised: trace_paths reads it whether or not light is pending
   vec3 light{0.0f};
   // The path's radiance once it has ended: NaN when its throughput overflowed.
   vec3 radiance() const { return overflowed ? vec3(std::numeric_limits<float>::quiet_NaN()) : L; }

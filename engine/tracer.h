@@ -180,9 +180,13 @@ template <class Tag, class Answer>
 class RayQueue16 {
  public:
   RayQueue16(const Tracer& tracer, RayQuery query, Answer answer) : tracer_(tracer), query_(query), answer_(answer) {}
-  void add(const Ray& ray, const Tag& tag) {
+  void add(const Ray& ray, const Tag& tag) { add_if(true, ray, tag); }
+  // add where `take`, without a branch on it (the ray goes into the next lane either way and stays only if taken):
+  // for callers whose rays come at unpredictable places. `ray` must be readable either way.
+  void add_if(bool take, const Ray& ray, const Tag& tag) {
     packet_.set(lanes_, ray);
-    tags_[lanes_++] = tag;
+    tags_[lanes_] = tag;
+    lanes_ += take ? 1 : 0;
     if (lanes_ == 16) finish();
   }
   void finish() {
