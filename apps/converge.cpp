@@ -12,6 +12,7 @@
 #include "apps/scene_source.h"
 #include "apps/settings_names.h"
 #include "engine/check.h"
+#include "engine/file_names.h"
 
 namespace candela {
 
@@ -204,7 +205,7 @@ void print_time_to_target(const std::vector<ConvergePoint>& points, const std::m
 
 void write_csv(const std::string& path, const std::vector<ConvergePoint>& points,
                const std::map<std::string, double>& times) {
-  std::filesystem::path target(path), tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  std::filesystem::path target(path), tmp = hidden_beside(target, target.filename().string() + ".tmp");
   {
     std::ofstream f(tmp);
     if (!f) throw InputError(path + ": cannot open for writing");

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "engine/check.h"
+#include "engine/file_names.h"
 
 namespace candela {
 
@@ -67,8 +68,8 @@ void draw_log_log_plot(const LogLogPlot& plot, const std::string& png) {
   if (gnuplot.empty())
     throw InputError(png + ": cannot draw the plot: gnuplot is not on PATH (Debian: apt-get install gnuplot-nox)");
   std::filesystem::path target(png);
-  std::filesystem::path tmp = target.parent_path() / ("." + target.stem().string() + ".tmp.png");
-  std::filesystem::path script = target.parent_path() / ("." + target.stem().string() + ".gnuplot");
+  std::filesystem::path tmp = hidden_beside(target, target.stem().string() + ".tmp.png");
+  std::filesystem::path script = hidden_beside(target, target.stem().string() + ".gnuplot");
   {
     std::ofstream f(script);
     if (!f) throw InputError(script.string() + ": cannot write the gnuplot script");

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "engine/check.h"
+#include "engine/file_names.h"
 
 namespace candela {
 
@@ -25,7 +26,7 @@ nlohmann::json stats_to_json(const std::vector<FrameStats>& frames) {
 
 void write_json_file(const std::string& path, const nlohmann::json& json) {
   std::filesystem::path target(path);
-  std::filesystem::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  std::filesystem::path tmp = hidden_beside(target, target.filename().string() + ".tmp");
   {
     std::ofstream f(tmp);
     if (!f) throw InputError(path + ": cannot open for writing");

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "engine/check.h"
+#include "engine/file_names.h"
 
 namespace candela {
 
@@ -90,8 +91,7 @@ static bool has_extension(const std::string& path, const char* ext) {
 // into place, so the file appears whole or not at all. Throws InputError naming the file.
 static void write_atomically(const std::string& path, const OIIO::ImageSpec& spec, const void* data) {
   std::filesystem::path target(path);
-  std::filesystem::path tmp =
-      target.parent_path() / ("." + target.stem().string() + ".tmp" + target.extension().string());
+  std::filesystem::path tmp = hidden_beside(target, target.stem().string() + ".tmp" + target.extension().string());
   auto out = OIIO::ImageOutput::create(tmp.string());
   bool ok = out && out->open(tmp.string(), spec) && out->write_image(spec.format, data) && out->close();
   std::error_code ec;
