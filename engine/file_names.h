@@ -7,7 +7,7 @@
 namespace candela {
 
 // `target`'s directory / "." + name: a hidden file beside the target. (Built by appending: GCC 12 warned about
-// "." + std::string&&, a false -Wrestrict positive, GCC bug 105651.)
+// "." + std::string&&, a false -Wrestrict positive, GCC bug 105329.)
 inline std::filesystem::path hidden_beside(const std::filesystem::path& target, const std::string& name) {
   return target.parent_path() / std::string(".").append(name);
 }
