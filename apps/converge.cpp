@@ -4,15 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <utility>
 
 #include "apps/plot.h"
 #include "apps/scene_source.h"
 #include "apps/settings_names.h"
+#include "engine/atomic_files.h"
 #include "engine/check.h"
-#include "engine/file_names.h"
 
 namespace candela {
 
@@ -205,10 +204,7 @@ void print_time_to_target(const std::vector<ConvergePoint>& points, const std::m
 
 void write_csv(const std::string& path, const std::vector<ConvergePoint>& points,
                const std::map<std::string, double>& times) {
-  std::filesystem::path target(path), tmp = hidden_beside(target, target.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp);
-    if (!f) throw InputError(path + ": cannot open for writing");
+  write_text_atomically(path, [&](std::ostream& f) {
     f.precision(8);
     f << "method,samples,time_ms,mse,rel_mse,mean_difference,standard_error,time_to_target_ms\n";
     for (const ConvergePoint& p : points) {
@@ -217,9 +213,7 @@ void write_csv(const std::string& path, const std::vector<ConvergePoint>& points
       if (times.at(p.method) >= 0.0) f << times.at(p.method);
       f << '\n';
     }
-    if (!f) throw InputError(path + ": write failed");
-  }
-  std::filesystem::rename(tmp, target);
+  });
 }
 
 // relMSE against seconds, one line per method.

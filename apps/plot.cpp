@@ -9,8 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "engine/atomic_files.h"
 #include "engine/check.h"
-#include "engine/file_names.h"
 
 namespace candela {
 

@@ -1,10 +1,6 @@
 #include "apps/stats_json.h"
 
-#include <filesystem>
-#include <fstream>
-
-#include "engine/check.h"
-#include "engine/file_names.h"
+#include "engine/atomic_files.h"
 
 namespace candela {
 
@@ -25,20 +21,7 @@ nlohmann::json stats_to_json(const std::vector<FrameStats>& frames) {
 }
 
 void write_json_file(const std::string& path, const nlohmann::json& json) {
-  std::filesystem::path target(path);
-  std::filesystem::path tmp = hidden_beside(target, target.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp);
-    if (!f) throw InputError(path + ": cannot open for writing");
-    f << json.dump(2) << "\n";
-    if (!f) throw InputError(path + ": write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path + ": cannot write: " + ec.message());
-  }
+  write_text_atomically(path, [&](std::ostream& f) { f << json.dump(2) << "\n"; });
 }
 
 }  // namespace candela

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "engine/atomic_files.h"
 #include "engine/check.h"
-#include "engine/file_names.h"
 
 namespace candela {
 
