@@ -184,12 +184,14 @@ LightSample LightList::sample(const Scene& scene, size_t index, const vec3& p, v
   return s;
 }
 
-LightPoint LightList::triangle_point(const Scene& scene, size_t index, vec2 u) const {
+void LightList::triangle_point(const Scene& scene, size_t index, vec2 u, LightPoint& out) const {
   const TriangleLight& l = triangles_[index];
   float su = std::sqrt(u.x);
   vec2 bary(su * (1.0f - u.y), su * u.y);
-  return {l.p0 + l.e1 * bary.x + l.e2 * bary.y, l.normal,
-          l.textured ? emission_at(scene, l.instance, l.prim, bary) : l.average_radiance, l.two_sided};
+  out.position = l.p0 + l.e1 * bary.x + l.e2 * bary.y;
+  out.normal = l.normal;
+  out.radiance = l.textured ? emission_at(scene, l.instance, l.prim, bary) : l.average_radiance;
+  out.two_sided = l.two_sided;
 }
 
 LightSample LightList::sample_punctual(size_t index, const vec3& p) const {

@@ -109,7 +109,15 @@ class LightList {
   // Samples a point on light `index` as seen from p, with u in [0,1)^2.
   LightSample sample(const Scene& scene, size_t index, const vec3& p, vec2 u) const;
   // The point that sample() places on triangle light `index` for u (uniform over its area).
-  LightPoint triangle_point(const Scene& scene, size_t index, vec2 u) const;
+  LightPoint triangle_point(const Scene& scene, size_t index, vec2 u) const {
+    LightPoint point;
+    triangle_point(scene, index, u, point);
+    return point;
+  }
+  // The same written into `out` field by field, for callers that keep the point inside a larger struct: a returned
+  // point assigned there was copied with wide loads of the callee's narrower stores, which stalled on store
+  // forwarding (a third of the light tiles' drawing in a profile, docs/performance.md).
+  void triangle_point(const Scene& scene, size_t index, vec2 u, LightPoint& out) const;
   // sample() for punctual light `index` (>= triangle_count()): its position or direction, pdf 1.
   LightSample sample_punctual(size_t index, const vec3& p) const;
   // Solid-angle density with which sample() picks the point y (normal ny) on triangle light `index` from p.

@@ -102,20 +102,25 @@ struct PathStart {
 // needs of the vertex that sampled the ray, and that vertex's next-event estimate while its shadow ray is
 // not traced yet (`light_pending`; `light` holds the contribution times the throughput).
 struct PathState {
-  explicit PathState(const PathStart& start)
-      : ray(start.ray),
-        prev_bsdf_pdf(start.bsdf_pdf),
-        prev_ctx(start.from),
-        depth(start.depth),
-        emission_counts(start.first_emission) {}
+  PathState() = default;  // a path that start() sets off
+  explicit PathState(const PathStart& s) { start(s.ray, s.depth, s.bsdf_pdf, s.from, s.first_emission); }
+  // Sets the path off from PathStart's fields, copied member by member. Where a vector of paths grows,
+  // emplace_back() and start() fill the new path in place: a PathStart handed to emplace_back, or a ray or context
+  // copied whole, was assembled on the stack and read back with wide loads of its narrower stores, which stalled on
+  // store forwarding (gi_first_rays).
+  void start(const Ray& r, int start_depth, float bsdf_pdf, const ShadingContext& from, bool first_emission) {
+    ray.origin = r.origin, ray.direction = r.direction, ray.tmin = r.tmin, ray.tmax = r.tmax;
+    prev_ctx.position = from.position, prev_ctx.normal = from.normal, prev_ctx.radius = from.radius;
+    prev_bsdf_pdf = bsdf_pdf, depth = start_depth, emission_counts = first_emission;
+  }
   Ray ray;
   vec3 L{0.0f}, beta{1.0f};
-  float prev_bsdf_pdf;
+  float prev_bsdf_pdf = 0.0f;
   ShadingContext prev_ctx;
-  int depth;             // bounce of the vertex `ray` reaches, counted from the camera
-  bool emission_counts;  // whether emission at that vertex counts (false only at a start that says so)
-  bool first = true;     // `ray` is the start's ray
-  bool alive = true;     // `ray` is still to be traced
+  int depth = 0;                // bounce of the vertex `ray` reaches, counted from the camera
+  bool emission_counts = true;  // whether emission at that vertex counts (false only at a start that says so)
+  bool first = true;            // `ray` is the start's ray
+  bool alive = true;            // `ray` is still to be traced
   bool overflowed = false;
   bool light_pending = false;
   Ray shadow{vec3(0.0f), vec3(0.0f)};  // initialised: trace_paths reads it whether or not light is pending

@@ -40,11 +40,15 @@ struct DiParams {
   uint64_t seed = 0;
 };
 
-// The sample (light, uv) with its point placed by `lights` (punctual lights have no point to store).
-inline ReuseSample di_resolve(const Scene& scene, const LightList& lights, uint32_t light, vec2 uv) {
-  ReuseSample s{light, uv, {}, 0};
-  if (light < lights.triangle_count()) s.point = lights.triangle_point(scene, light, uv);
-  return s;
+// The sample (light, uv) with its point placed by `lights` (punctual lights have no point to store), written into
+// `out` field by field: every caller keeps it inside a reservoir, a tile entry or a batch, and a returned sample
+// assigned there was copied with wide loads of narrower stores, which stalled on store forwarding.
+inline void di_resolve(const Scene& scene, const LightList& lights, uint32_t light, vec2 uv, ReuseSample& out) {
+  out.light = light, out.uv = uv, out.age = 0;
+  if (light < lights.triangle_count())
+    lights.triangle_point(scene, light, uv, out.point);
+  else
+    out.point = LightPoint{};
 }
 
 // Density of a fresh light sample over its light's area given the light was chosen (1 for delta lights).
@@ -62,17 +66,23 @@ struct DiLightCandidate {
 inline float di_light_pdf(const LightList& lights, SampledLight chosen) {
   return chosen.pmf > 0.0f ? chosen.pmf * di_area_pdf(lights, chosen.index) : 0.0f;
 }
-inline DiLightCandidate di_light_candidate(const Scene& scene, const LightList& lights, SampledLight chosen, vec2 uv) {
-  if (chosen.pmf <= 0.0f) return {};
-  return {di_resolve(scene, lights, chosen.index, uv), di_light_pdf(lights, chosen)};
+// The candidate that uv gives on the chosen light, into `out` (field by field, as di_resolve writes).
+inline void di_light_candidate(const Scene& scene, const LightList& lights, SampledLight chosen, vec2 uv,
+                               DiLightCandidate& out) {
+  if (chosen.pmf <= 0.0f) {
+    out = DiLightCandidate{};
+    return;
+  }
+  di_resolve(scene, lights, chosen.index, uv, out.sample);
+  out.p_light = di_light_pdf(lights, chosen);
 }
 
 // The light sample (light and uniforms) that LightList::sample maps to barycentric point b of triangle
-// light `light`: the inverse of its uniform triangle mapping.
-inline ReuseSample di_sample_at(const Scene& scene, const LightList& lights, uint32_t light, vec2 b) {
+// light `light`: the inverse of its uniform triangle mapping. Into `out`, as di_resolve writes.
+inline void di_sample_at(const Scene& scene, const LightList& lights, uint32_t light, vec2 b, ReuseSample& out) {
   float su = b.x + b.y;
   vec2 uv(std::min(su * su, 1.0f - 0x1p-24f), su > 0.0f ? std::min(b.y / su, 1.0f - 0x1p-24f) : 0.0f);
-  return di_resolve(scene, lights, light, uv);
+  di_resolve(scene, lights, light, uv, out);
 }
 
 // A debug view of reservoirs: their confidence M, their contribution weight W, or the chosen light

@@ -42,7 +42,7 @@ void locate_bsdf_hits(const SceneView& view, const DiParams& params, int slots, 
       DiCandidateBatch::BsdfCandidate& c = batch.bsdf[size_t(k) * kLaneSlots + size_t(s)];
       const Hit& hit = c.hit;
       c.light = c.sample.pdf > 0.0f && hit.valid() ? view.lights.light_index(hit.instance, hit.prim) : -1;
-      if (c.light >= 0) c.light_sample = di_sample_at(view.scene, view.lights, uint32_t(c.light), hit.barycentric);
+      if (c.light >= 0) di_sample_at(view.scene, view.lights, uint32_t(c.light), hit.barycentric, c.light_sample);
       if (!plane) continue;
       if (c.light >= 0 && c.light_sample.light < view.lights.triangle_count())
         plane->set(s, c.light_sample.point);

@@ -56,9 +56,10 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const ReuseDomain& d
     if (row.directions.active[s] == 0.0f || !(pdf > 0.0f)) continue;
     const vec3 wi(row.directions.x[s], row.directions.y[s], row.directions.z[s]);
     if (glm::dot(wi, g.geometric_normal[i]) <= 0.0f) continue;
-    starts.push_back(GiStart{i, g.position[i], pdf, row.tag[s], row.u[s]});
-    paths.emplace_back(PathStart{view.tracer.spawn_ray(g.position[i], g.geometric_normal[i], wi), 1, pdf,
-                                 ShadingContext{g.position[i], g.shading_normal[i]}, false});
+    // Each appended in place, from its parts (PathState::start says why).
+    starts.emplace_back(i, g.position[i], pdf, row.tag[s], row.u[s]);
+    paths.emplace_back().start(view.tracer.spawn_ray(g.position[i], g.geometric_normal[i], wi), 1, pdf,
+                               ShadingContext{g.position[i], g.shading_normal[i]}, false);
     rngs.push_back(row.streams.stream(s));
   }
 }
@@ -97,8 +98,10 @@ void gi_sample_reservoirs(const ReuseDomain& domain, const std::vector<GiStart>&
       const float p_hat = group.samples.p_hat[s], p_area = group.p_area[s];
       if (group.samples.active[s] == 0.0f || !(p_area > 0.0f) || p_hat <= 0.0f) continue;
       ReuseReservoir& r = out[starts[k].pixel];
-      r.update(ReuseSample{kSurfacePointSample, starts[k].tag, group.samples.point(s), 0}, p_hat / p_area, p_hat,
-               starts[k].u);
+      if (r.take(p_hat / p_area, p_hat, starts[k].u)) {
+        r.y.light = kSurfacePointSample, r.y.uv = starts[k].tag, r.y.age = 0;
+        r.y.point = group.samples.point(s);
+      }
       r.finalize();
     }
   }

@@ -131,7 +131,7 @@ class LightTiles {
     for (int e = 0; e < size_; ++e) view.lights.prefetch(chosen[size_t(e)].index);  // random records: misses
     DiLightCandidate* out = &entries_[size_t(t) * size_t(size_)];
     for (int e = 0; e < size_; ++e)
-      out[e] = di_light_candidate(view.scene, view.lights, chosen[size_t(e)], uv[size_t(e)]);
+      di_light_candidate(view.scene, view.lights, chosen[size_t(e)], uv[size_t(e)], out[e]);
   }
 
   int size_ = 0;

@@ -24,9 +24,15 @@ struct Reservoir {
   // Streams one candidate with resampling weight w (>= 0) and target p_hat_x; u uniform in [0, 1).
   // Returns whether it was kept.
   bool update(const Sample& x, float w, float p_hat_x, float u) {
+    if (!take(w, p_hat_x, u)) return false;
+    y = x;
+    return true;
+  }
+  // update() but for the sample, which the caller writes into y in place where this returns true: a sample assembled
+  // for update() and copied in was read with wide loads of its narrower stores, which stalled on store forwarding.
+  bool take(float w, float p_hat_x, float u) {
     w_sum += w;
     if (w > 0.0f && u * w_sum < w) {
-      y = x;
       p_hat_y = p_hat_x;
       return true;
     }

@@ -47,7 +47,7 @@ struct PlacedSample {
   const ReuseSample& at(const LightList* lights, const Scene& scene, ReuseSample& scratch) const {
     if (lights == here_lights) return here;
     if (placed_alike(*own_lights, *lights, own)) return own;
-    scratch = di_resolve(scene, *lights, own.light, own.uv);
+    di_resolve(scene, *lights, own.light, own.uv, scratch);
     return scratch;
   }
 };
@@ -204,7 +204,7 @@ void place_for_combiner(const SceneView& view, const ReuseInput& in, const Light
   if (placed_alike(in.domain->lights, *here_lights, own))
     here = own;
   else
-    here = di_resolve(view.scene, *here_lights, own.light, own.uv);
+    di_resolve(view.scene, *here_lights, own.light, own.uv, here);
   here.age = aged_by(own.age, in.age_step);
 }
 

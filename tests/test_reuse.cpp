@@ -49,7 +49,7 @@ TargetAt target_and_visibility(const Renderer& renderer, const ReuseDomain& doma
                                const LightList& from) {
   ReuseSample placed = y;
   if (&domain.lights != &from && y.light != kSurfacePointSample)
-    placed = di_resolve(renderer.scene(), domain.lights, y.light, y.uv);
+    di_resolve(renderer.scene(), domain.lights, y.light, y.uv, placed);
   const ReuseReceiver r = reuse_receiver(domain, pixel);
   const SampleContribution c = sample_contribution(r, placed);
   const bool visible =
