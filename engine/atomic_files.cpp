@@ -18,6 +18,7 @@ void write_text_atomically(const std::string& path, const std::function<void(std
     std::ofstream f(tmp);
     if (!f) fail("cannot open for writing");
     write(f);
+    f.close();  // flushes the stream's buffer: a write that fails there fails here, not unseen in the destructor
     if (!f) fail("write failed");
   }
   std::filesystem::rename(tmp, target, ec);
