@@ -109,6 +109,10 @@ struct PathState {
   // copied whole, was assembled on the stack and read back with wide loads of its narrower stores, which stalled on
   // store forwarding (gi_first_rays).
   void start(const Ray& r, int start_depth, float bsdf_pdf, const ShadingContext& from, bool first_emission) {
+    // Every member of Ray and ShadingContext is copied below: one added to either must be added here.
+    static_assert(sizeof(Ray) == 2 * sizeof(vec3) + 2 * sizeof(float), "start() copies Ray's members one by one");
+    static_assert(sizeof(ShadingContext) == 2 * sizeof(vec3) + sizeof(float),
+                  "start() copies ShadingContext's members one by one");
     ray.origin = r.origin, ray.direction = r.direction, ray.tmin = r.tmin, ray.tmax = r.tmax;
     prev_ctx.position = from.position, prev_ctx.normal = from.normal, prev_ctx.radius = from.radius;
     prev_bsdf_pdf = bsdf_pdf, depth = start_depth, emission_counts = first_emission;
