@@ -103,6 +103,11 @@ void append_reuse_rows(std::vector<Setting>& rows, const std::string& prefix, Se
                             "(1 = each pixel draws its own; larger is faster and correlates the block)",
                             methods));
   rows.back().widget_max = 16;
+  rows.push_back(flag_row(key("fused"), group, field(&ReuseParams::fused),
+                          "One fused spatiotemporal pass instead of the temporal and first spatial passes: the "
+                          "neighbours are last frame's reservoirs around the pixel's reprojection (needs temporal and "
+                          "spatial reuse; no boiling filter)",
+                          methods));
   rows.push_back(number_row(key("spatial_passes"), group, SettingType::Int, 1, 8, field(&ReuseParams::spatial_passes),
                             "Spatial reuse passes", methods));
   rows.push_back(number_row(key("shaded_samples"), group, SettingType::Int, 1, kMaxShadedSamples,

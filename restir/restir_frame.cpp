@@ -56,7 +56,9 @@ bool Restir::find_history(const GBuffer& g, const RestirFrame& frame, const std:
 }
 
 // Stages "<prefix>_temporal" (where find_history ran), "<prefix>_boiling_filter"
-// (optional), "<prefix>_spatial" (per spatial pass) and "<prefix>_shade": reuses chain.initial across
+// (optional), "<prefix>_spatial" (per spatial pass) and "<prefix>_shade", or with reuse.fused (where find_history ran
+// and spatial reuse is on) "<prefix>_fused" in place of the first three (the boiling filter, which needs temporal
+// reuse's output, is then not run), then the further spatial passes: reuses chain.initial across
 // frames and pixels and adds one estimate per pixel into the sum (plus emission seen and `unsampled`,
 // when given; the shade stage also drops occluded samples, with drop_occluded); the final reservoirs and
 // shadow-ray verdicts become the chain's history, by swapping buffers (every stage rewrites its output
@@ -66,7 +68,9 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
                              const std::vector<vec3>* unsampled, ReservoirChain& chain, FrameStats& stats, Image& sum) {
   const ReuseDomain current = current_domain(frame, g), previous = previous_domain(frame, g);
   std::vector<ReuseReservoir>* result = &chain.initial;
-  if (temporal) {
+  const int passes = reuse.spatial ? std::max(reuse.spatial_passes, 0) : 0;
+  const bool fused = temporal && reuse.fused && passes > 0 && previous.surfaces.size() == g.size();
+  if (temporal && !fused) {
     StageTimer timer(stats, prefix + "_temporal");
     // Last pass's verdicts (swapped out at this pass's shading) judge the history's samples where they still hold.
     const bool verdicts =
@@ -75,23 +79,23 @@ void Restir::reuse_and_shade(const SceneView& view, const GBuffer& g, const Rest
                    timer.rays(), verdicts ? &chain.visibility : nullptr);
     result = &chain.temporal;
   }
-  if (temporal && reuse.boiling_threshold > 0.0f) {
+  if (temporal && !fused && reuse.boiling_threshold > 0.0f) {
     StageTimer timer(stats, prefix + "_boiling_filter");
     boiling_filter(current, reuse.boiling_threshold, chain.temporal);
   }
   // The last spatial pass keeps shaded_samples samples of each combination (spatial_reuse's further samples):
   // each is the combination's estimator, so their mean is unbiased and averages out part of what one sample's shadow
   // ray leaves.
-  const int passes = reuse.spatial ? std::max(reuse.spatial_passes, 0) : 0;
   const int samples = passes > 0 ? std::clamp(reuse.shaded_samples, 1, kMaxShadedSamples) : 1;
   chain.further.resize(size_t(samples - 1));
   const bool known = passes > 0 && reuse_traces_visibility(reuse) && frame.known_visibility;
+  const PreviousFrame previous_frame{g, previous, chain.history};
   for (int k = 0; k < passes; ++k) {
-    StageTimer timer(stats, prefix + "_spatial");
+    StageTimer timer(stats, prefix + (k == 0 && fused ? "_fused" : "_spatial"));
     const bool last = k == passes - 1;
     spatial_reuse(view, current, *result, reuse, key, k, temporal ? &chain.history_pixel : nullptr,
                   chain.spatial[k % 2], timer.rays(), last ? &chain.further : nullptr,
-                  last && known ? &chain.kept_visible : nullptr);
+                  last && known ? &chain.kept_visible : nullptr, k == 0 && fused ? &previous_frame : nullptr);
     result = &chain.spatial[k % 2];
   }
   {

@@ -403,6 +403,9 @@ uint64_t combine_row(const SceneView& view, const ReuseParams& params, int slots
   return traced;
 }
 
+// Frames a sample ages by where a later frame reuses it (temporal and fused reuse's inputs from last frame).
+constexpr uint8_t kHistoryAgeStep = 1;
+
 // Last frame's pixel under pixel (x, y) = i's surface point (find_history_pixels), or -1; whether its surface is
 // similar is tested apart.
 int64_t reprojected_pixel(const GBuffer& g, const ReuseDomain& current, const ReuseParams& params, int frame, size_t i,
@@ -566,12 +569,11 @@ void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& 
         const int32_t j = history_pixel[i];
         history_pixel[i] = -1;
         if (j < 0) continue;
-        constexpr uint8_t kAgeStep = 1;  // last frame's sample is a frame older where this frame reuses it
         const ReuseReservoir& old = history[size_t(j)];
-        if (params.max_sample_age > 0 && aged_by(old.y.age, kAgeStep) > params.max_sample_age) continue;
+        if (params.max_sample_age > 0 && aged_by(old.y.age, kHistoryAgeStep) > params.max_sample_age) continue;
         batch.row.set_input(0, s, {&reservoirs[i], &current, i, reservoirs[i].M});
         ReuseInput history_input{&old, &previous, size_t(j), std::min(old.M, params.history_cap * reservoirs[i].M)};
-        history_input.age_step = kAgeStep;
+        history_input.age_step = kHistoryAgeStep;
         batch.row.set_input(1, s, history_input);
         batch.row.count[s] = 2;
         history_pixel[i] = int32_t(j);
@@ -586,8 +588,15 @@ void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& 
 void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std::vector<ReuseReservoir>& in,
                    const ReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
                    std::vector<ReuseReservoir>& out, RayCounter& rays,
-                   std::vector<std::vector<ReuseReservoir>>* further, std::vector<int8_t>* kept_visible) {
+                   std::vector<std::vector<ReuseReservoir>>* further, std::vector<int8_t>* kept_visible,
+                   const PreviousFrame* previous) {
+  CHECK(!previous ||
+        (pass == 0 && previous->reservoirs.size() == in.size() && previous->domain.surfaces.size() == in.size()));
   const std::span<const PackedSurface> surfaces = current.surfaces;
+  // Where the neighbours come from: `in`, around each pixel, or last frame's reservoirs around its reprojection.
+  const ReuseDomain& source = previous ? previous->domain : current;
+  const std::vector<ReuseReservoir>& from = previous ? previous->reservoirs : in;
+  const std::span<const PackedSurface> source_surfaces = source.surfaces;
   if (further && further->empty()) further = nullptr;
   if (further)
     for (std::vector<ReuseReservoir>& samples : *further) samples.resize(in.size());
@@ -596,8 +605,8 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
   if (kept_visible) kept_visible->resize(in.size());
   const bool boost = pass == 0 && history_pixel && history_pixel->size() == in.size();
   // Pairwise MIS with visibility asks every neighbour whether its own sample is visible from it: asked
-  // here once per pixel (one shadow ray each, 16 at a time in pixel order) instead of once per pixel and
-  // neighbour.
+  // here once per pixel of the neighbours' frame (one shadow ray each, 16 at a time in pixel order, against this
+  // frame's geometry) instead of once per pixel and neighbour.
   std::vector<int8_t> own_visible;
   if (params.mis_visibility && params.bias == BiasCorrection::Pairwise) {
     own_visible.assign(in.size(), -1);
@@ -609,8 +618,8 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
       for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
           const size_t j = size_t(y) * size_t(width) + size_t(x);
-          if (!surfaces[j].hit() || in[j].W <= 0.0f || in[j].p_hat_y <= 0.0f) continue;
-          queue.add(sample_shadow_ray(view.tracer, surfaces[j], current.lights, in[j].y), j);
+          if (!source_surfaces[j].hit() || from[j].W <= 0.0f || from[j].p_hat_y <= 0.0f) continue;
+          queue.add(sample_shadow_ray(view.tracer, source_surfaces[j], source.lights, from[j].y), j);
         }
       queue.finish();
       rays.add(queue.traced());
@@ -619,7 +628,8 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
   // Neighbours: consecutive offsets of the table (scaled by the radius once per pass) from a start drawn with
   // the pixel's random stream (one number instead of ~2.5 per neighbour and no rejection loop), or shared by
   // the pixel's block of params.neighbour_block pixels on a side, and their surfaces and reservoirs
-  // prefetched. A shared start makes neighbouring pixels read neighbouring pixels' data.
+  // prefetched. A shared start makes neighbouring pixels read neighbouring pixels' data. With `previous`, the
+  // offsets are taken around the pixel's reprojection, which is the first neighbour.
   struct Drawn {
     bool active = false;  // the pixel takes part in reuse (a surface, rough enough)
     int count = 0;
@@ -646,17 +656,27 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
     if (!d.active) return;
     const int neighbours =
         boost && (*history_pixel)[i] < 0 ? params.disocclusion_neighbours : params.spatial_neighbours;
-    const int max_inputs = 1 + std::clamp(neighbours, 0, kMaxReuseInputs - 1);
+    const int centre_inputs = previous ? 1 : 0;  // the reprojection
+    const int max_inputs = 1 + centre_inputs + std::clamp(neighbours, 0, kMaxReuseInputs - 1 - centre_inputs);
     const uint32_t own_start = streams.next_u32(s);  // drawn either way: the stream's later numbers stay the same
     const uint32_t start = block > 1 ? shared_start : own_start;
-    for (int k = 1; k < max_inputs; ++k) {
-      const glm::ivec2 o = pixel_offsets[(start + uint32_t(k)) % kOffsetCount];
-      const int nx = x + o.x, ny = y + o.y;
-      if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
-      size_t j = size_t(ny) * width + nx;
-      prefetch_object(surfaces[j]);
-      prefetch_object(in[j]);
+    auto add = [&](size_t j) {
+      prefetch_object(source_surfaces[j]);
+      prefetch_object(from[j]);
       d.pixels[d.count++] = j;
+    };
+    int cx = x, cy = y;  // the centre of the offsets
+    if (previous) {
+      const int64_t c = reprojected_pixel(previous->g, current, params, frame, i, x, y);
+      if (c < 0) return;  // no reprojection: the pixel keeps its own reservoir
+      cx = int(c % width), cy = int(c / width);
+      add(size_t(c));
+    }
+    for (int k = 1 + centre_inputs; k < max_inputs; ++k) {
+      const glm::ivec2 o = pixel_offsets[(start + uint32_t(k)) % kOffsetCount];
+      const int nx = cx + o.x, ny = cy + o.y;
+      if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == cx && ny == cy)) continue;
+      add(size_t(ny) * width + nx);
     }
   };
   // Which of a row's drawn neighbours are similar to their pixels, in lanes (params.simd).
@@ -667,14 +687,16 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
       lanes.set(s, surfaces[first + size_t(s)]);
       for (int c = 0; c < count; ++c)
         if (c < drawn[s].count)
-          lanes.set_neighbour(c, s, surfaces[drawn[s].pixels[c]]);
+          lanes.set_neighbour(c, s, source_surfaces[drawn[s].pixels[c]]);
         else
           lanes.clear_neighbour(c, s);
     }
     similar_neighbour_lanes(lanes, count, slots, params.depth_tolerance, params.normal_tolerance);
   };
   // The pixel and its similar neighbours, as the inputs of its combination in slot s of `row` (none without a
-  // surface); `lanes`: their similarity tested in slot s of a row, else null (tested here).
+  // surface); `lanes`: their similarity tested in slot s of a row, else null (tested here). Last frame's neighbours
+  // (`previous`) enter as temporal reuse's history does: aged by a frame (dropped beyond params.max_sample_age), their
+  // confidence capped at params.history_cap times the pixel's.
   auto select = [&](size_t i, const Drawn& d, const NeighbourLanes* lanes, int s, ReuseRow& row) {
     int& count = row.count[s];
     count = 0;
@@ -683,8 +705,15 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
     const vec3 n = lanes ? vec3(0.0f) : surfaces[i].shading_n();
     for (int c = 0; c < d.count; ++c) {
       size_t j = d.pixels[c];
-      if (lanes ? lanes->similar[c][s] != 0 : similar_surfaces(surfaces[i], n, surfaces[j], params))
-        row.set_input(count++, s, {&in[j], &current, j, in[j].M, own_visible.empty() ? int8_t(-1) : own_visible[j]});
+      if (!(lanes ? lanes->similar[c][s] != 0 : similar_surfaces(surfaces[i], n, source_surfaces[j], params))) continue;
+      const ReuseReservoir& r = from[j];
+      ReuseInput input{&r, &source, j, r.M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
+      if (previous) {
+        input.age_step = kHistoryAgeStep;
+        if (params.max_sample_age > 0 && aged_by(r.y.age, kHistoryAgeStep) > params.max_sample_age) continue;
+        input.M = std::min(r.M, params.history_cap * in[i].M);
+      }
+      row.set_input(count++, s, input);
     }
   };
   // Per tile row: every pixel's neighbours drawn first, a row ahead (so that the cache misses of their surfaces and
@@ -738,10 +767,11 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
       int kept[kLaneSlots];
       traced += combine_row(view, params, slots, batch.row, now.streams, first, in, out, further ? &more : nullptr,
                             kept_visible ? kept : nullptr);
-      // Where a pixel kept its own sample, the visibility traced for it above is its result's.
+      // Where a pixel kept its own sample, the visibility traced for it above is its result's (not so with `previous`:
+      // the rays were traced for last frame's samples).
       for (int s = 0; kept_visible && s < slots; ++s) {
         const size_t i = first + size_t(s);
-        (*kept_visible)[i] = kept[s] == 0 && !own_visible.empty() ? own_visible[i] : int8_t(-1);
+        (*kept_visible)[i] = kept[s] == 0 && !own_visible.empty() && !previous ? own_visible[i] : int8_t(-1);
       }
     }
     rays.add(traced);

@@ -39,6 +39,10 @@ struct ReuseParams {
                                      // neighbour offsets (cheaper: neighbouring pixels read neighbouring data;
                                      // unbiased, the choice ignores the samples); 4 chosen at equal time
                                      // (docs/restir.md, "Neighbour offsets")
+  bool fused = false;  // with temporal and spatial reuse: one fused spatiotemporal pass (RTXDI's fused spatiotemporal
+                       // resampling) instead of the temporal pass and the first spatial pass: the neighbours are last
+                       // frame's reservoirs around the pixel's reprojection, with the reprojected pixel itself as the
+                       // temporal input (see spatial_reuse's `previous`); one pass over the frame instead of two
   int spatial_passes = 1;
   int shaded_samples = 2;        // samples the last spatial pass keeps of each pixel's combination (stratified over its
                                  // weights), each shaded with weight 1/n; the first becomes history. Unbiased (each is
@@ -142,10 +146,24 @@ void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& 
 enum SpatialStream : uint64_t { kPixelStreams = 0xd3, kBlockStarts = 0xd5, kFurtherPoints = 0xe1 };
 constexpr uint64_t spatial_stream(SpatialStream name, int pass) { return uint64_t(name) + (uint64_t(pass) << 8); }
 
+// Fused spatiotemporal reuse's neighbours (ReuseParams::fused): last frame's final reservoirs (the history), its
+// domain, and this frame's G-buffer, whose motion vectors reproject each pixel.
+struct PreviousFrame {
+  const GBuffer& g;
+  const ReuseDomain& domain;
+  const std::vector<ReuseReservoir>& reservoirs;
+};
+
 // Stage "di_spatial": reads the surfaces and `in`, writes `out` combining each pixel with up to k
 // similar neighbours within the radius, one tile row at a time as temporal reuse does (2 target
 // evaluations per neighbour, in lanes). No rays, except with mis_visibility. `pass` selects its own random
-// stream. With `history_pixel` (temporal reuse ran), the first pass gives pixels without history
+// stream. With `previous` (stage "di_fused", pass 0 only), the neighbours are last frame's reservoirs instead of
+// `in`'s: the pixel's reprojection (reprojected_pixel's, as find_history_pixels finds it) and up to k more around it
+// within the radius, each taken where its surface is similar to the pixel's and its sample no older than
+// params.max_sample_age, with temporal reuse's confidence cap and aging; where the pixel has no reprojection it keeps
+// `in`'s reservoir alone. With mis_visibility, whether each of last frame's samples is visible from its own surface
+// is traced against this frame's geometry, as temporal reuse does, and kept_visible gets -1 (`in`'s own samples
+// were not traced). With `history_pixel` (temporal reuse ran), the first pass gives pixels without history
 // disocclusion_neighbours instead. With `further` (ReuseParams::shaded_samples), each of its n - 1 vectors
 // receives one more sample of every pixel's combination, and the n samples are stratified over the combination's
 // weights (systematic resampling; in lanes with params.simd: systematic_picks_lanes); each is the combination's
@@ -157,7 +175,7 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
                    const ReuseParams& params, int frame, int pass, const std::vector<int32_t>* history_pixel,
                    std::vector<ReuseReservoir>& out, RayCounter& rays,
                    std::vector<std::vector<ReuseReservoir>>* further = nullptr,
-                   std::vector<int8_t>* kept_visible = nullptr);
+                   std::vector<int8_t>* kept_visible = nullptr, const PreviousFrame* previous = nullptr);
 
 // Stage "boiling_filter": reads and rewrites the reservoirs. Temporal reuse can make a rare sample with
 // a huge contribution weight spread to its neighbours frame after frame ("boiling"); this drops every

@@ -485,8 +485,9 @@ TEST(TargetLanes, ShadowRaysGiveTheScalarBits) {
 // bits with the lanes (candidates, and the targets of temporal and spatial reuse) as with the scalar path,
 // on manylights, the Cornell box and city (whose lights and camera move: history placed by other lights), for ReSTIR DI
 // alone and with ReSTIR GI (whose reuse shares the code), with pairwise and basic MIS, with 3 shaded samples
-// (the further samples' weights come from the lanes; the images hold their shading), and with 31 neighbours (on the
-// Cornell box, dozens of rows hold a pixel with all 32 inputs: every bit of the rows' masks, counted once by hand).
+// (the further samples' weights come from the lanes; the images hold their shading), with 31 neighbours (on the
+// Cornell box, dozens of rows hold a pixel with all 32 inputs: every bit of the rows' masks, counted once by hand), and
+// with fused spatiotemporal reuse (city's moving lights: last frame's neighbours placed anew).
 // The further samples' picks in lanes (systematic_picks_lanes) against systematic_picks on random combinations: up to
 // 32 inputs with zero, tiny, ordinary, huge and infinite weights (an overflowed m p_hat W; zero from each slot's count
 // on, as combine_pairwise_lanes leaves them), the kept input drawn among those with weight, uniforms up to the largest
@@ -560,11 +561,13 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
     const char* bias;
     int shaded_samples = 1;
     int neighbours = 3;
+    bool fused = false;  // DI's and GI's fused spatiotemporal reuse
   };
   for (const Case& c : {Case{"manylights", "restir-di", "pairwise"}, Case{"cornell", "restir-di", "pairwise"},
                         Case{"city", "restir-di", "pairwise"}, Case{"manylights", "restir-di", "basic"},
                         Case{"cornell", "restir", "pairwise"}, Case{"manylights", "restir", "pairwise", 3},
-                        Case{"cornell", "restir-di", "pairwise", 1, 31}, Case{"city", "restir-di", "pairwise", 2}}) {
+                        Case{"cornell", "restir-di", "pairwise", 1, 31}, Case{"city", "restir-di", "pairwise", 2},
+                        Case{"city", "restir", "pairwise", 2, 3, true}}) {
     std::vector<ReuseReservoir> result[2], gi[2];
     Image image[2];
     for (int simd = 0; simd < 2; ++simd) {
@@ -574,12 +577,17 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
                                                    {"di_bias", c.bias},
                                                    {"di_shaded_samples", c.shaded_samples},
                                                    {"gi_shaded_samples", c.shaded_samples},
-                                                   {"di_neighbours", c.neighbours}});
+                                                   {"di_neighbours", c.neighbours},
+                                                   {"di_fused", c.fused},
+                                                   {"gi_fused", c.fused}});
       settings.di.simd = settings.di_reuse.simd = settings.gi_reuse.simd = simd == 1;  // not a setting: the oracle
       Scene scene = make_builtin_scene(c.scene);
       const CameraDesc camera = scene.default_camera();
       Renderer renderer(std::move(scene), settings);
-      for (int frame = 0; frame < 3; ++frame) testing::render_checked(renderer, frame, 0.1f * float(frame), camera);
+      for (int frame = 0; frame < 3; ++frame) {
+        const FrameStats stats = testing::render_checked(renderer, frame, 0.1f * float(frame), camera);
+        if (frame > 0) ASSERT_EQ(stats.stage_ms("di_fused") > 0.0, c.fused) << c.scene << " frame " << frame;
+      }
       result[simd] = renderer.di_reservoirs();
       gi[simd] = renderer.gi_reservoirs();
       image[simd] = renderer.image();

@@ -68,6 +68,7 @@ TEST(Unbiased, RestirDi) {
     double bsdf_probability = 1.0;
     int history_candidates = DiParams{}.history_light_candidates;  // pixels with history draw this many
     int shaded_samples = ReuseParams{}.shaded_samples;
+    bool fused = false;  // one fused spatiotemporal pass
   };
   for (Mode mode :
        {Mode{"basic", "basic", false, false, false, Expect::Unbiased},
@@ -79,6 +80,10 @@ TEST(Unbiased, RestirDi) {
              DiParams{}.light_candidates},
         Mode{"pairwise, three shaded samples", "pairwise", false, false, false, Expect::Unbiased, 1.0,
              DiParams{}.history_light_candidates, 3},
+        Mode{"pairwise, fused spatiotemporal", "pairwise", false, false, false, Expect::Unbiased, 1.0,
+             DiParams{}.history_light_candidates, ReuseParams{}.shaded_samples, true},
+        Mode{"basic, fused spatiotemporal", "basic", false, false, false, Expect::Unbiased, 1.0,
+             DiParams{}.history_light_candidates, ReuseParams{}.shaded_samples, true},
         Mode{"basic, visible candidates", "basic", false, true, false, Expect::Biased},
         Mode{"none, visible candidates", "none", false, true, false, Expect::Biased},
         Mode{"pairwise, drop occluded (the default)", "pairwise", false, false, true, Expect::Biased},
@@ -91,6 +96,7 @@ TEST(Unbiased, RestirDi) {
                                                 {"di_bsdf_probability", mode.bsdf_probability},
                                                 {"di_history_candidates", mode.history_candidates},
                                                 {"di_shaded_samples", mode.shaded_samples},
+                                                {"di_fused", mode.fused},
                                                 {"di_radius", 6}},
                                                run_settings(w, h, Method::RestirDi, 0));
     const testing::Verdict v = testing::compare_runs(restir_runs(scene, s, runs, frames, 1000), reference);
@@ -223,7 +229,8 @@ TEST(Unbiased, FlythroughCity) {
 // camera stands still; 48x27, 256 runs of 6 frames, pixel centres, against 64 path-traced runs (direct
 // light, 64 samples per pixel) of the last frame's instant. Temporal reuse must judge last frame's
 // samples with last frame's light placement: judged with this frame's (the ablation
-// stale_light_history), the samples land where the lights no longer are, and the harness must see it.
+// stale_light_history), the samples land where the lights no longer are, and the harness must see it. The same
+// with fused spatiotemporal reuse (di_fused), whose neighbours all come from last frame.
 TEST(Unbiased, MovingLights) {
   Scene scene = make_manylights_scene(256, 7);
   for (size_t k = 0; k < scene.instances.size(); ++k) {
@@ -237,16 +244,19 @@ TEST(Unbiased, MovingLights) {
   Scene at_last = scene;
   at_last.set_time(float(frames - 1) / 30.0f);
   const testing::Runs reference = path_traced_runs(at_last, w, h, 1, 64, 64, 7000);
-  for (bool stale : {false, true}) {
-    RenderSettings s = testing::settings({{"di_radius", 6}}, run_settings(w, h, Method::RestirDi, 0));
-    s.test.stale_light_history = stale;
-    const testing::Verdict v =
-        testing::compare_runs(testing::renderer_runs(scene, s, runs, frames, 100, 30.0f), reference);
-    if (stale)
-      testing::expect_biased("moving lights, stale placement", v);
-    else
-      testing::expect_unbiased("moving lights", v, 0.01);
-  }
+  for (bool fused : {false, true})
+    for (bool stale : {false, true}) {
+      RenderSettings s =
+          testing::settings({{"di_radius", 6}, {"di_fused", fused}}, run_settings(w, h, Method::RestirDi, 0));
+      s.test.stale_light_history = stale;
+      const testing::Verdict v =
+          testing::compare_runs(testing::renderer_runs(scene, s, runs, frames, 100, 30.0f), reference);
+      const std::string name = fused ? "moving lights, fused" : "moving lights";
+      if (stale)
+        testing::expect_biased(name + ", stale placement", v);
+      else
+        testing::expect_unbiased(name, v, 0.01);
+    }
 }
 
 // Sobol and ZSobol numbers (engine/sobol.h) in the direct estimator and the path tracer (4 bounces), both
