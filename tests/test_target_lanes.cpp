@@ -586,7 +586,9 @@ TEST(TargetLanes, ReservoirsEqualTheScalarPath) {
       Renderer renderer(std::move(scene), settings);
       for (int frame = 0; frame < 3; ++frame) {
         const FrameStats stats = testing::render_checked(renderer, frame, 0.1f * float(frame), camera);
-        if (frame > 0) ASSERT_EQ(stats.stage_ms("di_fused") > 0.0, c.fused) << c.scene << " frame " << frame;
+        if (frame > 0) {
+          ASSERT_EQ(stats.stage_ms("di_fused") > 0.0, c.fused) << c.scene << " frame " << frame;
+        }
       }
       result[simd] = renderer.di_reservoirs();
       gi[simd] = renderer.gi_reservoirs();
