@@ -403,8 +403,18 @@ uint64_t combine_row(const SceneView& view, const ReuseParams& params, int slots
   return traced;
 }
 
-// Frames a sample ages by where a later frame reuses it (temporal and fused reuse's inputs from last frame).
-constexpr uint8_t kHistoryAgeStep = 1;
+// Last frame's reservoir r (pixel j of `domain`, last frame's) as an input of this frame's combination whose own
+// reservoir has confidence M, into `input` (own_visible left unknown), as temporal and fused reuse take it: its sample
+// a frame older, its confidence capped at params.history_cap times M. False where the sample would then be older than
+// params.max_sample_age (the input is dropped).
+bool history_input(const ReuseReservoir& r, const ReuseDomain& domain, size_t j, float M, const ReuseParams& params,
+                   ReuseInput& input) {
+  constexpr uint8_t kAgeStep = 1;
+  if (params.max_sample_age > 0 && aged_by(r.y.age, kAgeStep) > params.max_sample_age) return false;
+  input = {&r, &domain, j, std::min(r.M, params.history_cap * M)};
+  input.age_step = kAgeStep;
+  return true;
+}
 
 // Last frame's pixel under pixel (x, y) = i's surface point (find_history_pixels), or -1; whether its surface is
 // similar is tested apart.
@@ -569,12 +579,10 @@ void temporal_reuse(const SceneView& view, const GBuffer& g, const ReuseDomain& 
         const int32_t j = history_pixel[i];
         history_pixel[i] = -1;
         if (j < 0) continue;
-        const ReuseReservoir& old = history[size_t(j)];
-        if (params.max_sample_age > 0 && aged_by(old.y.age, kHistoryAgeStep) > params.max_sample_age) continue;
+        ReuseInput old;
+        if (!history_input(history[size_t(j)], previous, size_t(j), reservoirs[i].M, params, old)) continue;
         batch.row.set_input(0, s, {&reservoirs[i], &current, i, reservoirs[i].M});
-        ReuseInput history_input{&old, &previous, size_t(j), std::min(old.M, params.history_cap * reservoirs[i].M)};
-        history_input.age_step = kHistoryAgeStep;
-        batch.row.set_input(1, s, history_input);
+        batch.row.set_input(1, s, old);
         batch.row.count[s] = 2;
         history_pixel[i] = int32_t(j);
       }
@@ -695,8 +703,7 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
   };
   // The pixel and its similar neighbours, as the inputs of its combination in slot s of `row` (none without a
   // surface); `lanes`: their similarity tested in slot s of a row, else null (tested here). Last frame's neighbours
-  // (`previous`) enter as temporal reuse's history does: aged by a frame (dropped beyond params.max_sample_age), their
-  // confidence capped at params.history_cap times the pixel's.
+  // (`previous`) enter as temporal reuse's history does (history_input).
   auto select = [&](size_t i, const Drawn& d, const NeighbourLanes* lanes, int s, ReuseRow& row) {
     int& count = row.count[s];
     count = 0;
@@ -706,13 +713,9 @@ void spatial_reuse(const SceneView& view, const ReuseDomain& current, const std:
     for (int c = 0; c < d.count; ++c) {
       size_t j = d.pixels[c];
       if (!(lanes ? lanes->similar[c][s] != 0 : similar_surfaces(surfaces[i], n, source_surfaces[j], params))) continue;
-      const ReuseReservoir& r = from[j];
-      ReuseInput input{&r, &source, j, r.M, own_visible.empty() ? int8_t(-1) : own_visible[j]};
-      if (previous) {
-        input.age_step = kHistoryAgeStep;
-        if (params.max_sample_age > 0 && aged_by(r.y.age, kHistoryAgeStep) > params.max_sample_age) continue;
-        input.M = std::min(r.M, params.history_cap * in[i].M);
-      }
+      ReuseInput input{&from[j], &source, j, from[j].M};
+      if (previous && !history_input(from[j], source, j, in[i].M, params, input)) continue;
+      input.own_visible = own_visible.empty() ? int8_t(-1) : own_visible[j];
       row.set_input(count++, s, input);
     }
   };
