@@ -35,6 +35,7 @@ static RestirSettings restir_settings(const RenderSettings& s) {
   r.gi_reuse = s.gi_reuse;
   r.gi.max_depth = s.max_depth;
   r.gi.rr_start_depth = s.rr_depth;
+  r.gi.share_bsdf_ray = s.gi_share_bsdf_ray;
   r.with_gi = s.method == Method::Restir;
   r.gi_only = s.test.gi_only;
   r.seed = s.seed;

@@ -76,6 +76,7 @@ struct RenderSettings {
   DiParams di;                  // restir-di: initial candidates
   ReuseParams di_reuse;         // restir-di: temporal and spatial reuse
   ReuseParams gi_reuse = default_gi_reuse();  // restir: reuse of the GI samples
+  bool gi_share_bsdf_ray = true;              // restir: GI's first rays are DI's BSDF candidates (GiParams)
   DenoiserParams denoise;                     // the denoiser that finishes each frame (none by default)
   RenderTestSwitches test;
 };

@@ -268,6 +268,15 @@ void append_di_candidate_rows(std::vector<Setting>& rows) {
       kRestirMethods));
 }
 
+// The rows of ReSTIR GI's samples.
+void append_gi_sample_rows(std::vector<Setting>& rows) {
+  rows.push_back(flag_row(
+      "gi_share_bsdf_ray", SettingGroup::RestirGi, [](auto& s) -> auto& { return s.gi_share_bsdf_ray; },
+      "GI paths start with ReSTIR DI's BSDF candidate rays (one BSDF sample and ray per pixel for both; needs "
+      "di_bsdf_candidates >= 1 and di_bsdf_probability 1, else GI draws its own)",
+      kRestir));
+}
+
 void append_denoiser_rows(std::vector<Setting>& rows) {
   const SettingGroup g = SettingGroup::Denoiser;
   rows.push_back(choice_row(
@@ -362,6 +371,7 @@ const std::vector<Setting>& settings_schema() {
         r, "di", SettingGroup::RestirDi, kRestirMethods, [](auto& s) -> auto& { return s.di_reuse; });
     append_reuse_rows(
         r, "gi", SettingGroup::RestirGi, kRestir, [](auto& s) -> auto& { return s.gi_reuse; });
+    append_gi_sample_rows(r);
     append_denoiser_rows(r);
     return r;
   }();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/bsdf_lanes.h"
+#include "engine/check.h"
 #include "engine/gbuffer_lanes.h"
 #include "engine/path_lanes.h"
 #include "engine/path_tracer.h"
@@ -140,29 +141,36 @@ void bounce_paths(const SceneView& view, const S& sampler, const PathTracerParam
 // Traces paths[k] with stream rngs[k] to its end (paths[k].radiance() is then trace_path's result);
 // first_hits, if not null, receives per path the surface its start's ray hits. With `instances` (the scene's,
 // GBufferInstances), each bounce's hits on plain materials get their surfaces in SIMD lanes
-// (surface_points_lanes), the others surface_at. Returns the rays traced.
+// (surface_points_lanes), the others surface_at. With `start_hits` the start rays were traced already:
+// (*start_hits)[k] is what paths[k].ray hit. Returns the rays traced.
 // Cost: trace_path's per path, less the BSDF, next-event and continuation work bounce_paths does in lanes; rays in
 // packets of 16 in slot order (slots of neighbouring pixels keep the first bounces' packets coherent).
 template <LightSampler S, class Stream>
 uint64_t trace_paths(const SceneView& view, const S& sampler, const PathTracerParams& params,
                      std::vector<PathState>& paths, std::vector<Stream>& rngs,
-                     std::vector<std::optional<SurfacePoint>>* first_hits,
-                     const GBufferInstances* instances = nullptr) {
+                     std::vector<std::optional<SurfacePoint>>* first_hits, const GBufferInstances* instances = nullptr,
+                     const std::vector<Hit>* start_hits = nullptr) {
+  CHECK(!start_hits || start_hits->size() == paths.size());
   const Tracer& tracer = view.tracer;
   std::vector<uint32_t> live(paths.size());
   for (uint32_t k = 0; k < live.size(); ++k) live[k] = k;
-  std::vector<Hit> hits(paths.size());
+  std::vector<Hit> hits = start_hits ? *start_hits : std::vector<Hit>(paths.size());
   thread_local PathVertexBatch batch;
   thread_local SurfacePoint surfaces[kLaneSlots];
   uint64_t traced = 0;
-  while (!live.empty()) {
+  for (bool first_bounce = true; !live.empty(); first_bounce = false) {
     // Closest hits of the live paths' rays.
     auto bounce = ray_queue16<uint32_t>(tracer, RayQuery::Intersect, [&](uint32_t k, const RayPacket16& p, int lane) {
       hits[k] = tracer.packet_hit(p, lane);
       if (instances) instances->prefetch_triangle(hits[k].instance, hits[k].prim);
     });
-    for (uint32_t k : live) bounce.add(paths[k].ray, k);
-    bounce.finish();
+    if (start_hits && first_bounce) {  // the start rays' hits are given
+      if (instances)
+        for (uint32_t k : live) instances->prefetch_triangle(hits[k].instance, hits[k].prim);
+    } else {
+      for (uint32_t k : live) bounce.add(paths[k].ray, k);
+      bounce.finish();
+    }
     // The bounce of each path (emission, its next-event estimate's shadow ray, its next ray), a group of live
     // paths at a time, with the surfaces of the group's hits on plain materials in lanes first. The next group's
     // corners are prefetched a group ahead (their vertex indices were prefetched as the hits came back): later

@@ -5,7 +5,9 @@
 // resampling them.
 #include <vector>
 
+#include "engine/check.h"
 #include "engine/prefetch.h"
+#include "restir/bsdf_ray.h"
 #include "restir/di.h"
 #include "restir/light_tiles.h"
 #include "restir/receiver_lanes.h"
@@ -355,20 +357,31 @@ uint64_t resample_candidates(const SceneView& view, const S& sampler, const GBuf
   return 1;
 }
 
+// Part 4c (with `bsdf_rays`, per row): each slot's first BSDF candidate (direction, density, hit) into its pixel's
+// BsdfRay, for ReSTIR GI's first ray; pdf 0 where the slot traced none.
+inline void keep_bsdf_rays(int slots, size_t row, const DiCandidateBatch& batch, std::vector<BsdfRay>& bsdf_rays) {
+  for (int s = 0; s < slots; ++s) {
+    const DiCandidateBatch::BsdfCandidate& c = batch.bsdf[size_t(s)];
+    bsdf_rays[row + size_t(s)] = BsdfRay{c.sample.wi, c.sample.pdf, c.hit};
+  }
+}
+
 // Stage "di_candidates": reads the G-buffer (BSDF sampling and densities: the exact surface) and the
 // packed surfaces (targets), writes one reservoir per pixel and the light only BSDF candidates reach
-// (`unsampled`; zero without them). Cost per pixel: M_l light samples (or tile reads, with `tiles`) and
-// target evaluations (in lanes with params.simd), M_b BSDF samples, evaluations (in lanes with params.simd)
-// and rays (in packets),
-// plus one shadow ray with candidate_visibility.
+// (`unsampled`; zero without them), and with `bsdf_rays` every pixel's first BSDF candidate (which needs one BSDF
+// candidate drawn with certainty: bsdf_candidates >= 1, bsdf_probability 1). Cost per pixel: M_l light samples (or
+// tile reads, with `tiles`) and target evaluations (in lanes with params.simd), M_b BSDF samples, evaluations (in
+// lanes with params.simd) and rays (in packets), plus one shadow ray with candidate_visibility.
 template <LightSampler S>
 void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffer& g, const ReuseDomain& domain,
                            const DiParams& params, int frame, std::vector<ReuseReservoir>& out,
                            std::vector<vec3>& unsampled, RayCounter& rays, const LightTiles* tiles = nullptr,
-                           const std::vector<int32_t>* history = nullptr) {
+                           const std::vector<int32_t>* history = nullptr, std::vector<BsdfRay>* bsdf_rays = nullptr) {
+  CHECK(!bsdf_rays || (params.bsdf_candidates >= 1 && params.bsdf_probability == 1.0f));
   // Sized only: resample_candidates writes every pixel (in parallel, where a fill here ran on one thread).
   out.resize(g.size());
   unsampled.resize(g.size());
+  if (bsdf_rays) bsdf_rays->resize(g.size());
   for_each_tile(g.width, g.height, [&](const Tile& tile) {
     thread_local DiCandidateBatch batch;
     batch.resize(params.light_candidates, params.bsdf_candidates);
@@ -390,6 +403,7 @@ void di_initial_candidates(const SceneView& view, const S& sampler, const GBuffe
       for (int s = 0; s < slots; ++s) draw_bsdf_candidates(params, s, batch);
       if (params.simd) evaluate_bsdf_candidates(g, params, slots, batch);
       traced += trace_bsdf_candidates(view, g, params, slots, batch);
+      if (bsdf_rays) keep_bsdf_rays(slots, row, batch, *bsdf_rays);
       locate_bsdf_hits(view, params, slots, batch);
       thread_local StreamLanes streams;
       if (params.simd)

@@ -5,8 +5,9 @@
 namespace candela {
 
 void gi_first_rays(const SceneView& view, const GBuffer& g, const ReuseDomain& domain, const GiParams& params,
-                   int frame, int x0, int x1, int y, std::vector<ReuseReservoir>& out, std::vector<GiStart>& starts,
-                   std::vector<PathState>& paths, std::vector<Rng>& rngs) {
+                   int frame, int x0, int x1, int y, const std::vector<BsdfRay>* shared,
+                   std::vector<ReuseReservoir>& out, std::vector<GiStart>& starts, std::vector<PathState>& paths,
+                   std::vector<Rng>& rngs, std::vector<Hit>& hits) {
   struct Row {
     ExactSurfaceLanes surfaces;
     ReceiverLanes receivers;
@@ -20,13 +21,9 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const ReuseDomain& d
   thread_local Row row;
   const int slots = x1 - x0;
   const size_t first = size_t(y) * size_t(g.width) + size_t(x0);
-  // The exact receivers of the row's pixels (wo, the BSDFs' terms) in lanes (those without a hit go unread).
-  row.surfaces.set_row(g, first, slots);
-  build_exact_receivers(row.surfaces, domain.eye, slots, row.receivers);
   // Per hit pixel: the uniforms of its first direction, drawn from its BSDF (the random numbers in the order the
   // scalar code drew them: the direction's two, the tag's two, the lobe's and the reservoir's uniform), every
   // slot's stream keyed and drawn in lanes (number n of slot s at numbers[n * kLaneSlots + s]).
-  const BsdfLanes& bsdf = row.receivers.exact;
   row.streams.key(slots, params.seed, first, uint64_t(frame), 0x61);
   row.streams.fill(6, slots, row.numbers);
   for (int s = 0; s < slots; ++s) {
@@ -46,10 +43,23 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const ReuseDomain& d
     row.uniforms.u[0][s] = number(1), row.uniforms.u[1][s] = number(0), row.uniforms.lobe[s] = number(4);
     row.directions.active[s] = 1.0f;
   }
-  // The directions and their densities (Bsdf::sample's), in lanes; then the paths of the directions it accepts
-  // that leave the geometric surface.
-  sample_bsdf_lanes(bsdf, row.receivers.wox, row.receivers.woy, row.receivers.woz, row.uniforms, slots, row.directions);
-  evaluate_bsdf_lanes(bsdf, row.receivers.wox, row.receivers.woy, row.receivers.woz, slots, false, row.directions);
+  // The directions and their densities: ReSTIR DI's (`shared`; its numbers above go unused), or Bsdf::sample's at
+  // the exact receivers (wo, the BSDFs' terms), in lanes. Then the paths of the directions accepted that leave the
+  // geometric surface.
+  if (shared) {
+    for (int s = 0; s < slots; ++s) {
+      const BsdfRay& ray = (*shared)[first + size_t(s)];
+      row.directions.x[s] = ray.wi.x, row.directions.y[s] = ray.wi.y, row.directions.z[s] = ray.wi.z;
+      row.directions.pdf[s] = ray.pdf;
+    }
+  } else {
+    row.surfaces.set_row(g, first, slots);
+    build_exact_receivers(row.surfaces, domain.eye, slots, row.receivers);
+    const BsdfLanes& bsdf = row.receivers.exact;
+    sample_bsdf_lanes(bsdf, row.receivers.wox, row.receivers.woy, row.receivers.woz, row.uniforms, slots,
+                      row.directions);
+    evaluate_bsdf_lanes(bsdf, row.receivers.wox, row.receivers.woy, row.receivers.woz, slots, false, row.directions);
+  }
   for (int s = 0; s < slots; ++s) {
     const size_t i = first + size_t(s);
     const float pdf = row.directions.pdf[s];
@@ -61,6 +71,7 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const ReuseDomain& d
     paths.emplace_back().start(view.tracer.spawn_ray(g.position[i], g.geometric_normal[i], wi), 1, pdf,
                                ShadingContext{g.position[i], g.shading_normal[i]}, false);
     rngs.push_back(row.streams.stream(s));
+    if (shared) hits.push_back((*shared)[i].hit);
   }
 }
 

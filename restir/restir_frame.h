@@ -96,8 +96,15 @@ class Restir {
 
   RestirSettings settings_;
   ReservoirChain di_, gi_;
-  std::vector<vec3> unsampled_;  // light only BSDF candidates reach (environment, unlisted emitters)
-  LightTiles light_tiles_;       // presampled light tiles of this pass (with DiParams::light_tiles)
+  std::vector<vec3> unsampled_;     // light only BSDF candidates reach (environment, unlisted emitters)
+  LightTiles light_tiles_;          // presampled light tiles of this pass (with DiParams::light_tiles)
+  std::vector<BsdfRay> bsdf_rays_;  // DI's first BSDF candidates, GI's first rays (shares_bsdf_ray)
+  // Whether GI's paths start with DI's BSDF candidates (GiParams::share_bsdf_ray, where DI draws one per pixel with
+  // certainty).
+  bool shares_bsdf_ray() const {
+    return settings_.with_gi && settings_.gi.share_bsdf_ray && settings_.di.bsdf_candidates >= 1 &&
+           settings_.di.bsdf_probability == 1.0f;
+  }
 };
 
 template <LightSampler S>
@@ -107,7 +114,10 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
   CHECK(g.packed.size() == g.size());
   const ReuseDomain current = current_domain(frame, g);
   bool gi_history_found = false;  // GI's history found in DI's stage "di_history"
-  if (!settings_.with_gi || !settings_.gi_only) {
+  // DI's candidates run for DI's light, and for GI's first rays where GI shares them (with gi_only too: DI's
+  // candidates alone, so that the tests of GI alone run the default's rays; DI's history then stays empty).
+  const bool di_shades = !settings_.with_gi || !settings_.gi_only;
+  if (di_shades || shares_bsdf_ray()) {
     DiParams params = settings_.di;
     params.seed = settings_.seed;
     const LightTiles* tiles = nullptr;
@@ -130,16 +140,17 @@ void Restir::pass(const SceneView& view, const S& sampler, const GBuffer& g, con
     {
       StageTimer timer(stats, "di_candidates");
       di_initial_candidates(view, sampler, g, current, params, key, di_.initial, unsampled_, timer.rays(), tiles,
-                            temporal ? &di_.history_pixel : nullptr);
+                            temporal ? &di_.history_pixel : nullptr, shares_bsdf_ray() ? &bsdf_rays_ : nullptr);
     }
-    reuse_and_shade(view, g, frame, "di", reuse, key, temporal, &unsampled_, di_, stats, sum);
+    if (di_shades) reuse_and_shade(view, g, frame, "di", reuse, key, temporal, &unsampled_, di_, stats, sum);
   }
   if (!settings_.with_gi) return;
   GiParams params = settings_.gi;
   params.seed = mix64(settings_.seed ^ 0x6769);
   {
     StageTimer timer(stats, "gi_samples");
-    gi_initial_samples(view, sampler, g, current, params, key, gi_.initial, timer.rays(), timer.non_finite());
+    gi_initial_samples(view, sampler, g, current, params, key, gi_.initial, timer.rays(), timer.non_finite(),
+                       shares_bsdf_ray() ? &bsdf_rays_ : nullptr);
   }
   ReuseParams reuse = settings_.gi_reuse;
   reuse.seed = params.seed;

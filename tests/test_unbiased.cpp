@@ -137,8 +137,9 @@ testing::Runs indirect_runs(const Scene& scene, int w, int h, int depth, int spp
 // camera puts the box's wall-floor edges exactly through pixel centres, where the G-buffer's packet rays
 // and the path tracer's single rays can hit different triangles (measured: 14 edge pixels 1.7x apart at
 // z > 5, identical estimators otherwise); over the pixel's area such ties have measure zero. Unbiased:
-// no reuse (1024 runs of one frame), pairwise and basic (512 runs of 4 frames). Known biased, rejected
-// here: none (1/M), measured about 5% dark.
+// no reuse (1024 runs of one frame), pairwise and basic (512 runs of 4 frames), each with the paths' first rays
+// ReSTIR DI's BSDF candidates (the default, gi_share_bsdf_ray), and pairwise with GI drawing its own. Known biased,
+// rejected here: none (1/M), measured about 5% dark.
 TEST(Unbiased, RestirGi) {
   const Scene scene = lambertian(make_cornell_scene());
   const int w = 64, h = 48, depth = 3;
@@ -149,13 +150,19 @@ TEST(Unbiased, RestirGi) {
     const char* bias;
     int runs, frames;
     bool biased;
+    bool share = true;
   };
-  for (Mode mode :
-       {Mode{"no reuse", "none", "pairwise", 1024, 1, false}, Mode{"pairwise", "both", "pairwise", 512, 4, false},
-        Mode{"basic", "both", "basic", 512, 4, false}, Mode{"none", "both", "none", 256, 4, true}}) {
-    RenderSettings s = testing::settings(
-        {{"jitter", true}, {"max_depth", depth}, {"gi_reuse", mode.reuse}, {"gi_bias", mode.bias}, {"gi_radius", 8}},
-        run_settings(w, h, Method::Restir, 0));
+  for (Mode mode : {Mode{"no reuse", "none", "pairwise", 1024, 1, false},
+                    Mode{"pairwise", "both", "pairwise", 512, 4, false}, Mode{"basic", "both", "basic", 512, 4, false},
+                    Mode{"pairwise, own first rays", "both", "pairwise", 512, 4, false, false},
+                    Mode{"none", "both", "none", 256, 4, true}}) {
+    RenderSettings s = testing::settings({{"jitter", true},
+                                          {"max_depth", depth},
+                                          {"gi_reuse", mode.reuse},
+                                          {"gi_bias", mode.bias},
+                                          {"gi_radius", 8},
+                                          {"gi_share_bsdf_ray", mode.share}},
+                                         run_settings(w, h, Method::Restir, 0));
     s.test.gi_only = true;
     const testing::Verdict v = testing::compare_runs(restir_runs(scene, s, mode.runs, mode.frames, 500), reference);
     const std::string name = std::string("restir gi ") + mode.name;
