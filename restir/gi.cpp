@@ -43,7 +43,8 @@ void gi_first_rays(const SceneView& view, const GBuffer& g, const ReuseDomain& d
     row.uniforms.u[0][s] = number(1), row.uniforms.u[1][s] = number(0), row.uniforms.lobe[s] = number(4);
     row.directions.active[s] = 1.0f;
   }
-  // The directions and their densities: ReSTIR DI's (`shared`; its numbers above go unused), or Bsdf::sample's at
+  // The directions and their densities: ReSTIR DI's (`shared`; the direction's and lobe's numbers above go unused, so
+  // that the tag, the reservoir's uniform and the path's stream stay those of GI's own draw), or Bsdf::sample's at
   // the exact receivers (wo, the BSDFs' terms), in lanes. Then the paths of the directions accepted that leave the
   // geometric surface.
   if (shared) {
