@@ -455,5 +455,51 @@ TEST(RestirDiReuse, GiHistoryComesWithDis) {
   EXPECT_TRUE(stages(own).count("gi_history"));
 }
 
+// ReSTIR GI's paths start with ReSTIR DI's BSDF candidate rays (gi_share_bsdf_ray): DI's stage traces as many rays
+// as without sharing, and GI's one fewer per path (its first), so at least one fewer per half of the hit pixels. Where
+// DI draws its BSDF candidate only at random (di_bsdf_probability < 1) GI draws its own, and the option changes no bit.
+TEST(RestirGiSamples, StartWithDisBsdfRays) {
+  struct Frame {
+    uint64_t di_rays = 0, gi_rays = 0;
+    size_t hits = 0;
+    Image image;
+  };
+  auto render = [](bool share, float bsdf_probability) {
+    const RenderSettings s = testing::settings({{"width", 96},
+                                                {"height", 54},
+                                                {"method", "restir"},
+                                                {"max_depth", 3},
+                                                {"seed", 3},
+                                                {"gi_share_bsdf_ray", share},
+                                                {"di_bsdf_probability", bsdf_probability}});
+    Scene scene = make_builtin_scene("manylights");
+    const CameraDesc camera = scene.default_camera();
+    Renderer renderer(std::move(scene), s);
+    Frame f;
+    for (int frame = 0; frame < 2; ++frame) {
+      const FrameStats stats = testing::render_checked(renderer, frame, 0.0f, camera);
+      for (const StageStats& st : stats.stages) {
+        if (st.name == "di_candidates") f.di_rays = st.rays;
+        if (st.name == "gi_samples") f.gi_rays = st.rays;
+      }
+    }
+    for (size_t i = 0; i < renderer.gbuffer().size(); ++i) f.hits += renderer.gbuffer().hit(i) ? 1 : 0;
+    f.image = renderer.image();
+    return f;
+  };
+  const Frame shared = render(true, 1.0f), own = render(false, 1.0f);
+  std::printf("%zu hit pixels; di_candidates %llu rays; gi_samples %llu rays shared, %llu own\n", shared.hits,
+              (unsigned long long)shared.di_rays, (unsigned long long)shared.gi_rays, (unsigned long long)own.gi_rays);
+  ASSERT_GT(shared.hits, 1000u);
+  EXPECT_EQ(shared.di_rays, own.di_rays);
+  EXPECT_GT(own.gi_rays, shared.gi_rays + shared.hits / 2);
+  const Frame random_on = render(true, 0.5f), random_off = render(false, 0.5f);
+  EXPECT_EQ(random_on.gi_rays, random_off.gi_rays);
+  size_t differing = 0;
+  for (size_t i = 0; i < random_on.image.pixels.size(); ++i)
+    differing += random_on.image.pixels[i] != random_off.image.pixels[i];
+  EXPECT_EQ(differing, 0u);
+}
+
 }  // namespace
 }  // namespace candela
