@@ -23,6 +23,13 @@ double FrameStats::stage_ms(const std::string& name) const {
   return ms;
 }
 
+uint64_t FrameStats::stage_rays(const std::string& name) const {
+  uint64_t rays = 0;
+  for (const StageStats& s : stages)
+    if (s.name == name) rays += s.rays;
+  return rays;
+}
+
 void FrameStats::add(const std::string& name, double ms, uint64_t rays, uint64_t non_finite) {
   for (StageStats& s : stages)
     if (s.name == name) {

@@ -26,8 +26,9 @@ struct FrameStats {
   double total_ms = 0.0;
   std::vector<StageStats> stages;
   uint64_t rays() const;
-  uint64_t non_finite() const;                     // over all stages
-  double stage_ms(const std::string& name) const;  // 0 if the stage did not run
+  uint64_t non_finite() const;                         // over all stages
+  double stage_ms(const std::string& name) const;      // 0 if the stage did not run
+  uint64_t stage_rays(const std::string& name) const;  // 0 if the stage did not run
   // Adds time, rays and dropped non-finite values to stage `name` (a stage run several times in a frame,
   // e.g. per sample pass, is one entry).
   void add(const std::string& name, double ms, uint64_t rays, uint64_t non_finite = 0);

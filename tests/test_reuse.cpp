@@ -264,8 +264,7 @@ TEST(RestirDiReuse, VisibilityReuseSavesShadowRays) {
     shade_rays = 0;
     for (int frame = 0; frame < 10; ++frame) {
       FrameStats stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
-      for (const StageStats& st : stats.stages)
-        if (st.name == "di_shade" && frame > 0) shade_rays += st.rays;
+      if (frame > 0) shade_rays += stats.stage_rays("di_shade");
     }
     return renderer.image();
   };
@@ -342,8 +341,7 @@ TEST(RestirDiReuse, SamplesThatShadeAlikeAreShadedOnce) {
     shade_rays = 0;
     for (int frame = 0; frame < 3; ++frame) {
       FrameStats stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
-      for (const StageStats& st : stats.stages)
-        if (st.name == "gi_shade") shade_rays += st.rays;
+      shade_rays += stats.stage_rays("gi_shade");
     }
     return renderer.image();
   };
@@ -379,10 +377,8 @@ TEST(RestirDiReuse, KnownVerdictsReplaceRays) {
     std::vector<Image> frames;
     for (int frame = 0; frame < 6; ++frame) {
       FrameStats stats = testing::render_checked(renderer, frame, 0.0f, scene.default_camera());
-      for (const StageStats& st : stats.stages) {
-        if (st.name == "gi_temporal") temporal_rays += st.rays;
-        if (st.name == "gi_shade") shade_rays += st.rays;
-      }
+      temporal_rays += stats.stage_rays("gi_temporal");
+      shade_rays += stats.stage_rays("gi_shade");
       frames.push_back(renderer.image());
     }
     return frames;
@@ -478,10 +474,8 @@ TEST(RestirGiSamples, StartWithDisBsdfRays) {
     Frame f;
     for (int frame = 0; frame < 2; ++frame) {
       const FrameStats stats = testing::render_checked(renderer, frame, 0.0f, camera);
-      for (const StageStats& st : stats.stages) {
-        if (st.name == "di_candidates") f.di_rays = st.rays;
-        if (st.name == "gi_samples") f.gi_rays = st.rays;
-      }
+      f.di_rays = stats.stage_rays("di_candidates");
+      f.gi_rays = stats.stage_rays("gi_samples");
     }
     for (size_t i = 0; i < renderer.gbuffer().size(); ++i) f.hits += renderer.gbuffer().hit(i) ? 1 : 0;
     f.image = renderer.image();
